@@ -1,0 +1,201 @@
+//! Geometry: payload carried for the factor outputs that no rule reads.
+//!
+//! Floating-point values compare and hash by their bit patterns, so that the state that holds
+//! them stays `Eq + Hash`: `0.0` and `-0.0` differ, and a NaN equals the same NaN.
+
+use core::hash::{Hash, Hasher};
+
+/// A pose in the map frame: a position and an orientation quaternion (`geometry_msgs/Pose`).
+#[derive(Clone, Copy, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Pose {
+    /// `x`, `y`, `z` in metres.
+    pub position: [f64; 3],
+    /// `x`, `y`, `z`, `w`.
+    pub orientation: [f64; 4],
+}
+
+impl Pose {
+    fn bits(&self) -> [u64; 7] {
+        let [x, y, z] = self.position;
+        let [qx, qy, qz, qw] = self.orientation;
+        [x, y, z, qx, qy, qz, qw].map(f64::to_bits)
+    }
+}
+
+impl PartialEq for Pose {
+    fn eq(&self, other: &Self) -> bool {
+        self.bits() == other.bits()
+    }
+}
+
+impl Eq for Pose {}
+
+impl Hash for Pose {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.bits().hash(state);
+    }
+}
+
+/// A distance along the path in metres (`float32` on the wire). Compares by bit pattern.
+#[derive(Clone, Copy, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Distance(pub f32);
+
+impl PartialEq for Distance {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.to_bits() == other.0.to_bits()
+    }
+}
+
+impl Eq for Distance {}
+
+impl Hash for Distance {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.0.to_bits().hash(state);
+    }
+}
+
+impl Distance {
+    /// A total order: negative before positive, NaN last (`f32::total_cmp`).
+    #[must_use]
+    pub fn total_cmp(&self, other: &Self) -> core::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// What a velocity factor is doing (AD API `VelocityFactor.status`).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum VelocityStatus {
+    /// Not known.
+    #[default]
+    Unknown,
+    /// The vehicle is approaching the factor.
+    Approaching,
+    /// The vehicle has stopped because of the factor.
+    Stopped,
+}
+
+/// What a steering factor is doing (AD API `SteeringFactor.status`).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum SteeringStatus {
+    /// Not known.
+    #[default]
+    Unknown,
+    /// The vehicle is approaching the steering section.
+    Approaching,
+    /// The vehicle is in the steering section.
+    Turning,
+}
+
+/// Which way a steering scene turns (AD API `SteeringFactor.direction`).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Direction {
+    /// Not known.
+    #[default]
+    Unknown,
+    /// To the left.
+    Left,
+    /// To the right.
+    Right,
+    /// Straight on.
+    Straight,
+}
+
+/// Whether a scene is reported as a velocity factor or as a steering factor.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum FactorKind {
+    /// A scene that decides whether to stop or pass.
+    Velocity,
+    /// A scene that decides whether to change the path.
+    Steering,
+}
+
+/// A scene's geometry, by kind. The kind is fixed at registration (spec `[COOP-OWN-KIND.1]`).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Geometry {
+    /// A velocity scene: where it is and how far ahead.
+    Velocity {
+        /// Where the vehicle would stop or slow down.
+        pose: Pose,
+        /// How far ahead that is.
+        distance: Distance,
+        /// What the vehicle is doing about it.
+        status: VelocityStatus,
+    },
+    /// A steering scene: where its section starts and ends.
+    Steering {
+        /// Start and end of the steering section.
+        poses: [Pose; 2],
+        /// Distances to the start and to the end.
+        distances: [Distance; 2],
+        /// Which way it turns.
+        direction: Direction,
+        /// What the vehicle is doing about it.
+        status: SteeringStatus,
+    },
+}
+
+impl Geometry {
+    /// A velocity geometry at the origin with the given distance.
+    #[must_use]
+    pub fn velocity(distance: f32) -> Self {
+        Self::Velocity {
+            pose: Pose::default(),
+            distance: Distance(distance),
+            status: VelocityStatus::Approaching,
+        }
+    }
+
+    /// A steering geometry at the origin starting and ending at the given distances.
+    #[must_use]
+    pub fn steering(direction: Direction, start: f32, end: f32) -> Self {
+        Self::Steering {
+            poses: [Pose::default(); 2],
+            distances: [Distance(start), Distance(end)],
+            direction,
+            status: SteeringStatus::Approaching,
+        }
+    }
+
+    /// The kind of factor this geometry reports.
+    #[must_use]
+    pub const fn kind(&self) -> FactorKind {
+        match self {
+            Self::Velocity { .. } => FactorKind::Velocity,
+            Self::Steering { .. } => FactorKind::Steering,
+        }
+    }
+
+    /// The distance the factor lists are ordered by: to the stop, or to the section's start.
+    #[must_use]
+    pub const fn sort_distance(&self) -> Distance {
+        match self {
+            Self::Velocity { distance, .. } => *distance,
+            Self::Steering {
+                distances: [start, _],
+                ..
+            } => *start,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_compare_by_bits() {
+        assert_ne!(Distance(0.0), Distance(-0.0));
+        assert_eq!(Distance(f32::NAN), Distance(f32::NAN));
+        let mut pose = Pose::default();
+        assert_eq!(pose, Pose::default());
+        pose.orientation[3] = 1.0;
+        assert_ne!(pose, Pose::default());
+    }
+}

@@ -1,0 +1,71 @@
+//! The Autoware AD API **cooperation** feature (request to cooperate): scenes, module and
+//! operator decisions, per-module cooperation policies and the merged decision the planner
+//! drives with, as one specified state machine.
+//!
+//! The normative specification is `spec/cooperation.md`; every rule there has a tag, and
+//! [`State::apply`], the only function that changes the state, names the rule that fired.
+//! The same function is model-checked exhaustively by the `cooperation-models` crate.
+//!
+//! The core is sans-IO: it reads no clock (time arrives as [`Input::Tick`]), makes no
+//! identifiers (they arrive in [`Input::Register`]), draws no random numbers and does no I/O.
+//!
+//! # Example
+//!
+//! A lane change whose module sees an obstacle, overridden by the operator (the design
+//! page's sequence):
+//!
+//! ```
+//! use cooperation::*;
+//!
+//! let lane_change = Module::new(Behavior::LaneChange);
+//! let mut state = State::new(Config::new([(lane_change, Policy::Optional)]))?;
+//!
+//! // The module opens a scene and decides not to change lanes.
+//! let id = SceneId::from_u128(0x5678);
+//! let geometry = Geometry::steering(Direction::Left, 30.0, 60.0);
+//! let register = Input::Register { id, module: lane_change, decision: Decision::Deactivate, geometry };
+//! assert_eq!(state.apply(&register)?.rule, Rule::RegisterNew);
+//! assert_eq!(state.merged_decision(id), Some(Decision::Deactivate));
+//!
+//! // The operator overrides it.
+//! let response = state.set_commands(vec![Command { id, decision: OperatorDecision::Activate }]);
+//! assert!(response.status.success);
+//! assert_eq!(state.merged_decision(id), Some(Decision::Activate));
+//!
+//! // A command for an identifier nobody registered is refused, and changes nothing.
+//! let before = state.clone();
+//! let stray = Command { id: SceneId::from_u128(0x9999), decision: OperatorDecision::Activate };
+//! let response = state.set_commands(vec![stray]);
+//! assert!(!response.status.success);
+//! assert_eq!(response.outcomes, [CommandOutcome::Failed(CommandFailure::UnknownScene)]);
+//! assert_eq!(state, before);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod decision;
+mod geometry;
+mod id;
+mod input;
+mod invariant;
+mod module;
+mod output;
+mod phase;
+mod rejection;
+mod rule;
+mod state;
+
+pub use decision::{merge, Decision, OperatorDecision, Policy};
+pub use geometry::{
+    Direction, Distance, FactorKind, Geometry, Pose, SteeringStatus, VelocityStatus,
+};
+pub use id::SceneId;
+pub use input::{Command, Input, PolicySetting};
+pub use invariant::{Invariant, Violation};
+pub use module::{Behavior, Module, Sequence, UnknownName};
+pub use output::{
+    CommandsResponse, CooperationStatus, ResponseStatus, SteeringFactor, VelocityFactor,
+};
+pub use phase::Phase;
+pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};
+pub use rule::Rule;
+pub use state::{Config, ConfigError, Limits, Scene, State, Transition};

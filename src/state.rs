@@ -1,0 +1,677 @@
+//! The state and its one transition function, [`State::apply`].
+//!
+//! Every arm of `apply` begins with the tag of the spec rule it implements. All checks of an
+//! arm come before its first write, so a rejected input returns before anything changed.
+
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
+
+use crate::{
+    merge, Command, CommandFailure, CommandOutcome, Decision, Geometry, Input, Invariant, Module,
+    OperatorDecision, Phase, Policy, PolicySetting, Rejection, RetireReason, Retirement, Rule,
+    SceneId, Violation,
+};
+
+/// How to start: the modules that support cooperation, with their default policies, and the
+/// limits.
+#[derive(Clone, PartialEq, Eq, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Config {
+    /// Every module that supports cooperation, with its default policy. Only these modules can
+    /// have scenes (`[COOP-REG-MODULE.1]`) and policies (`[COOP-POL-UNKNOWN.1]`).
+    pub policies: BTreeMap<Module, Policy>,
+    /// The limits.
+    pub limits: Limits,
+}
+
+impl Config {
+    /// A configuration with these default policies and [`Limits::default`].
+    pub fn new(policies: impl IntoIterator<Item = (Module, Policy)>) -> Self {
+        Self {
+            policies: policies.into_iter().collect(),
+            limits: Limits::default(),
+        }
+    }
+}
+
+/// The bounds that keep memory and work finite.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Limits {
+    /// A scene whose owner has not updated it for longer than this expires
+    /// (`[COOP-TIME-EXPIRE.1]`). Default 10 000 ms.
+    pub ttl_ms: u64,
+    /// At most this many live scenes (`[COOP-REG-FULL.1]`). Default 4 096.
+    pub max_scenes: usize,
+    /// At most this many retired identifiers are remembered; beyond it the oldest is forgotten
+    /// (spec §5.1). Default 65 536.
+    pub retired_capacity: usize,
+    /// At most this many entries in one batch (`[COOP-BATCH-LIMIT.1]`). Default 1 024.
+    pub max_batch: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            ttl_ms: 10_000,
+            max_scenes: 4_096,
+            retired_capacity: 65_536,
+            max_batch: 1_024,
+        }
+    }
+}
+
+/// A configuration that cannot work.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ConfigError {
+    /// `max_scenes` is zero: no scene could ever register.
+    NoScenes,
+    /// `retired_capacity` is zero: identifiers would be reusable the moment they retire.
+    NoRetiredCapacity,
+    /// `max_batch` is zero: no command or policy could ever be set.
+    NoBatch,
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::NoScenes => "max_scenes must be at least 1",
+            Self::NoRetiredCapacity => "retired_capacity must be at least 1",
+            Self::NoBatch => "max_batch must be at least 1",
+        })
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// A live scene: what the rules read and write.
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Scene {
+    module: Module,
+    phase: Phase,
+    module_decision: Decision,
+    operator_decision: OperatorDecision,
+    age_ms: u64,
+    geometry: Geometry,
+}
+
+impl Scene {
+    /// The module the scene belongs to, for ever.
+    #[must_use]
+    pub const fn module(&self) -> Module {
+        self.module
+    }
+
+    /// The lifecycle phase; never terminal for a live scene.
+    #[must_use]
+    pub const fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// The module decision, as last reported by the owner.
+    #[must_use]
+    pub const fn module_decision(&self) -> Decision {
+        self.module_decision
+    }
+
+    /// The operator decision; `Undecided` until an operator command sets it.
+    #[must_use]
+    pub const fn operator_decision(&self) -> OperatorDecision {
+        self.operator_decision
+    }
+
+    /// Time since the owner last registered or updated the scene, at most the time-to-live.
+    #[must_use]
+    pub const fn age_ms(&self) -> u64 {
+        self.age_ms
+    }
+
+    /// The geometry last reported.
+    #[must_use]
+    pub const fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// Whether operator commands are accepted (`[COOP-CANCELLABLE.1]`).
+    #[must_use]
+    pub const fn is_cancellable(&self) -> bool {
+        self.phase.is_cancellable()
+    }
+
+    /// The merged decision under the module's policy (`[COOP-MERGE.1]`).
+    #[must_use]
+    pub const fn merged_decision(&self, policy: Policy) -> Decision {
+        merge(self.operator_decision, policy, self.module_decision)
+    }
+
+    /// The operator activated what the module would not (`[COOP-FORCE-ACTIVATED.1]`).
+    #[must_use]
+    pub const fn is_force_activated(&self) -> bool {
+        self.phase.is_cancellable()
+            && matches!(self.operator_decision, OperatorDecision::Activate)
+            && matches!(self.module_decision, Decision::Deactivate)
+    }
+
+    /// The operator deactivated a running scene the module would go on with
+    /// (`[COOP-FORCE-DEACTIVATED.1]`).
+    #[must_use]
+    pub const fn is_force_deactivated(&self) -> bool {
+        matches!(self.phase, Phase::Running)
+            && matches!(self.operator_decision, OperatorDecision::Deactivate)
+            && matches!(self.module_decision, Decision::Activate)
+    }
+}
+
+/// What an accepted input did.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Transition {
+    /// The rule that fired.
+    pub rule: Rule,
+    /// The identifiers this input retired, in identifier order (empty for most inputs).
+    pub retired: Vec<SceneId>,
+}
+
+impl Transition {
+    const fn by(rule: Rule) -> Self {
+        Self {
+            rule,
+            retired: Vec::new(),
+        }
+    }
+}
+
+/// The whole cooperation state: policies, live scenes and retired identifiers.
+///
+/// Changed only by [`State::apply`]. `Clone + Eq + Hash`, with ordered containers only, so that
+/// a model checker can hold it and every iteration order is deterministic.
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct State {
+    limits: Limits,
+    policies: BTreeMap<Module, Policy>,
+    scenes: BTreeMap<SceneId, Scene>,
+    retired: BTreeMap<SceneId, Retirement>,
+    /// The retired identifiers, oldest first; same set as `retired`.
+    retired_order: VecDeque<SceneId>,
+}
+
+impl State {
+    /// A state with the configured policies, no scenes and nothing retired.
+    ///
+    /// # Errors
+    /// A [`ConfigError`] if a limit is zero.
+    pub fn new(config: Config) -> Result<Self, ConfigError> {
+        let Config { policies, limits } = config;
+        if limits.max_scenes == 0 {
+            return Err(ConfigError::NoScenes);
+        }
+        if limits.retired_capacity == 0 {
+            return Err(ConfigError::NoRetiredCapacity);
+        }
+        if limits.max_batch == 0 {
+            return Err(ConfigError::NoBatch);
+        }
+        Ok(Self {
+            limits,
+            policies,
+            scenes: BTreeMap::new(),
+            retired: BTreeMap::new(),
+            retired_order: VecDeque::new(),
+        })
+    }
+
+    /// Applies one input: the only way the state changes.
+    ///
+    /// Deterministic: the result depends on `self` and `input` only; nothing else is read and
+    /// nothing but `self` is written. On `Err`, `self` is exactly as it was.
+    ///
+    /// # Errors
+    /// A [`Rejection`] naming the rule that refused the input.
+    pub fn apply(&mut self, input: &Input) -> Result<Transition, Rejection> {
+        let result = match input {
+            Input::Register {
+                id,
+                module,
+                decision,
+                geometry,
+            } => self.register(*id, *module, *decision, *geometry),
+            Input::Update {
+                id,
+                module,
+                phase,
+                decision,
+                geometry,
+            } => self.update(*id, *module, *phase, *decision, *geometry),
+            Input::Remove { id, module } => self.remove(*id, *module),
+            Input::SetCommands { commands } => self.apply_commands(commands),
+            Input::SetPolicies { policies } => self.apply_policies(policies),
+            Input::Tick { elapsed_ms } => Ok(self.tick(*elapsed_ms)),
+        };
+        debug_assert_eq!(self.check_invariants(), Ok(()), "after {input:?}");
+        result
+    }
+
+    /// The by-value form of [`apply`](Self::apply): the next state, or the rejection.
+    ///
+    /// # Errors
+    /// As [`apply`](Self::apply).
+    pub fn after(&self, input: &Input) -> Result<(Self, Transition), Rejection> {
+        let mut next = self.clone();
+        let transition = next.apply(input)?;
+        Ok((next, transition))
+    }
+
+    // ---------------------------------------------------------------------------------------
+    // Scene owners
+    // ---------------------------------------------------------------------------------------
+
+    fn register(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> Result<Transition, Rejection> {
+        // [COOP-REG-RETIRED.1]
+        if let Some(retirement) = self.retired.get(&id) {
+            return Err(Rejection::Revival {
+                id,
+                retirement: *retirement,
+            });
+        }
+        if let Some(scene) = self.scenes.get(&id) {
+            // [COOP-REG-LIVE.1]
+            if scene.module == module {
+                return Err(Rejection::AlreadyLive { id });
+            }
+            // [COOP-OWN-MODULE.1]
+            return Err(Rejection::WrongModule {
+                id,
+                owner: scene.module,
+                named: module,
+            });
+        }
+        // [COOP-REG-MODULE.1]
+        if !self.policies.contains_key(&module) {
+            return Err(Rejection::UnsupportedModule { id, module });
+        }
+        // [COOP-REG-FULL.1]
+        if self.scenes.len() >= self.limits.max_scenes {
+            return Err(Rejection::SceneLimit {
+                limit: self.limits.max_scenes,
+            });
+        }
+        // [COOP-REG-NEW.1]
+        let scene = Scene {
+            module,
+            phase: Phase::WaitingForExecution,
+            module_decision: decision,
+            operator_decision: OperatorDecision::Undecided,
+            age_ms: 0,
+            geometry,
+        };
+        self.scenes.insert(id, scene);
+        Ok(Transition::by(Rule::RegisterNew))
+    }
+
+    fn update(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        phase: Phase,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> Result<Transition, Rejection> {
+        let scene = self.owned_scene(id, module)?;
+        // [COOP-OWN-KIND.1]
+        if scene.geometry.kind() != geometry.kind() {
+            return Err(Rejection::KindMismatch {
+                id,
+                registered: scene.geometry.kind(),
+                given: geometry.kind(),
+            });
+        }
+        // [COOP-OWN-TRANSITION.1]
+        if !scene.phase.may_become(phase) {
+            return Err(Rejection::PhaseTransition {
+                id,
+                from: scene.phase,
+                to: phase,
+            });
+        }
+        // [COOP-OWN-FINISH.1]
+        let finished = match phase {
+            Phase::Succeeded => Some(RetireReason::Succeeded),
+            Phase::Failed => Some(RetireReason::Failed),
+            Phase::WaitingForExecution | Phase::Running | Phase::Aborting => None,
+        };
+        if let Some(reason) = finished {
+            self.retire(id, reason);
+            return Ok(Transition {
+                rule: Rule::OwnerFinish,
+                retired: vec![id],
+            });
+        }
+        // [COOP-OWN-UPDATE.1]
+        let scene = self.owned_scene_mut(id)?;
+        scene.phase = phase;
+        scene.module_decision = decision;
+        scene.geometry = geometry;
+        scene.age_ms = 0;
+        Ok(Transition::by(Rule::OwnerUpdate))
+    }
+
+    fn remove(&mut self, id: SceneId, module: Module) -> Result<Transition, Rejection> {
+        self.owned_scene(id, module)?;
+        // [COOP-OWN-REMOVE.1]
+        self.retire(id, RetireReason::Removed);
+        Ok(Transition {
+            rule: Rule::OwnerRemove,
+            retired: vec![id],
+        })
+    }
+
+    /// The live scene `id` if `module` owns it, or the rejection every owner input shares.
+    fn owned_scene(&self, id: SceneId, module: Module) -> Result<&Scene, Rejection> {
+        match self.scenes.get(&id) {
+            // [COOP-OWN-MODULE.1]
+            Some(scene) if scene.module != module => Err(Rejection::WrongModule {
+                id,
+                owner: scene.module,
+                named: module,
+            }),
+            Some(scene) => Ok(scene),
+            None => Err(self.absent(id)),
+        }
+    }
+
+    fn owned_scene_mut(&mut self, id: SceneId) -> Result<&mut Scene, Rejection> {
+        if !self.scenes.contains_key(&id) {
+            return Err(self.absent(id));
+        }
+        self.scenes
+            .get_mut(&id)
+            .ok_or(Rejection::UnknownScene { id })
+    }
+
+    /// The rejection for an owner input naming an identifier that is not live.
+    fn absent(&self, id: SceneId) -> Rejection {
+        match self.retired.get(&id) {
+            // [COOP-OWN-RETIRED.1]
+            Some(retirement) => Rejection::RetiredScene {
+                id,
+                retirement: *retirement,
+            },
+            // [COOP-OWN-UNKNOWN.1]
+            None => Rejection::UnknownScene { id },
+        }
+    }
+
+    /// Moves a live scene to the retired set, forgetting the oldest retired identifier if the
+    /// set is full (spec §5.1).
+    fn retire(&mut self, id: SceneId, reason: RetireReason) {
+        let Some(scene) = self.scenes.remove(&id) else {
+            return;
+        };
+        while self.retired_order.len() >= self.limits.retired_capacity {
+            match self.retired_order.pop_front() {
+                Some(oldest) => self.retired.remove(&oldest),
+                None => break,
+            };
+        }
+        self.retired.insert(
+            id,
+            Retirement {
+                module: scene.module,
+                reason,
+            },
+        );
+        self.retired_order.push_back(id);
+    }
+
+    // ---------------------------------------------------------------------------------------
+    // Time
+    // ---------------------------------------------------------------------------------------
+
+    fn tick(&mut self, elapsed_ms: u64) -> Transition {
+        let ttl_ms = self.limits.ttl_ms;
+        let mut expired = Vec::new();
+        for (id, scene) in &mut self.scenes {
+            scene.age_ms = scene.age_ms.saturating_add(elapsed_ms);
+            if scene.age_ms > ttl_ms {
+                expired.push(*id);
+            }
+        }
+        // [COOP-TIME-AGE.1]
+        if expired.is_empty() {
+            return Transition::by(Rule::TimeAge);
+        }
+        // [COOP-TIME-EXPIRE.1]
+        for id in &expired {
+            self.retire(*id, RetireReason::Expired);
+        }
+        Transition {
+            rule: Rule::TimeExpire,
+            retired: expired,
+        }
+    }
+
+    // ---------------------------------------------------------------------------------------
+    // Operators
+    // ---------------------------------------------------------------------------------------
+
+    fn apply_commands(&mut self, commands: &[Command]) -> Result<Transition, Rejection> {
+        self.check_batch_len(commands.len())?;
+        let failures = self.command_failures(commands);
+        if let Some(&(index, failure)) = failures.first() {
+            // [COOP-CMD-UNKNOWN.1] [COOP-CMD-RETIRED.1] [COOP-CMD-NOT-CANCELLABLE.1]
+            // [COOP-CMD-DUPLICATE.1]: the first failure in batch order names the rule.
+            let mut outcomes = vec![CommandOutcome::Withheld; commands.len()];
+            for &(at, failure) in &failures {
+                if let Some(outcome) = outcomes.get_mut(at) {
+                    *outcome = CommandOutcome::Failed(failure);
+                }
+            }
+            return Err(Rejection::Commands {
+                index,
+                failure,
+                outcomes,
+            });
+        }
+        // [COOP-CMD-APPLY.1]
+        for command in commands {
+            if let Some(scene) = self.scenes.get_mut(&command.id) {
+                scene.operator_decision = command.decision;
+            }
+        }
+        Ok(Transition::by(Rule::CommandApply))
+    }
+
+    /// Every command that cannot apply, with its position, in batch order.
+    fn command_failures(&self, commands: &[Command]) -> Vec<(usize, CommandFailure)> {
+        let mut seen = BTreeSet::new();
+        let mut failures = Vec::new();
+        for (index, command) in commands.iter().enumerate() {
+            let failure = if commands.len() > 1 && !seen.insert(command.id) {
+                Some(CommandFailure::DuplicateId)
+            } else {
+                match (self.scenes.get(&command.id), self.retired.get(&command.id)) {
+                    (Some(scene), _) if !scene.is_cancellable() => {
+                        Some(CommandFailure::NotCancellable(scene.phase))
+                    }
+                    (Some(_), _) => None,
+                    (None, Some(retirement)) => {
+                        Some(CommandFailure::RetiredScene(retirement.reason))
+                    }
+                    (None, None) => Some(CommandFailure::UnknownScene),
+                }
+            };
+            if let Some(failure) = failure {
+                failures.push((index, failure));
+            }
+        }
+        failures
+    }
+
+    fn apply_policies(&mut self, settings: &[PolicySetting]) -> Result<Transition, Rejection> {
+        self.check_batch_len(settings.len())?;
+        let mut seen = BTreeSet::new();
+        for (index, setting) in settings.iter().enumerate() {
+            // [COOP-POL-DUPLICATE.1]
+            if !seen.insert(setting.module) {
+                return Err(Rejection::DuplicatePolicyModule {
+                    index,
+                    module: setting.module,
+                });
+            }
+            // [COOP-POL-UNKNOWN.1]
+            if !self.policies.contains_key(&setting.module) {
+                return Err(Rejection::UnknownPolicyModule {
+                    index,
+                    module: setting.module,
+                });
+            }
+        }
+        // [COOP-POL-SET.1]
+        for setting in settings {
+            if let Some(policy) = self.policies.get_mut(&setting.module) {
+                *policy = setting.policy;
+            }
+        }
+        Ok(Transition::by(Rule::PolicySet))
+    }
+
+    fn check_batch_len(&self, len: usize) -> Result<(), Rejection> {
+        // [COOP-BATCH-LIMIT.1]
+        if len > self.limits.max_batch {
+            return Err(Rejection::BatchLimit {
+                len,
+                limit: self.limits.max_batch,
+            });
+        }
+        Ok(())
+    }
+
+    // ---------------------------------------------------------------------------------------
+    // Queries
+    // ---------------------------------------------------------------------------------------
+
+    /// The limits in force.
+    #[must_use]
+    pub const fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    /// The live scene with this identifier.
+    #[must_use]
+    pub fn scene(&self, id: SceneId) -> Option<&Scene> {
+        self.scenes.get(&id)
+    }
+
+    /// Every live scene, in identifier order.
+    pub fn scenes(&self) -> impl Iterator<Item = (SceneId, &Scene)> + '_ {
+        self.scenes.iter().map(|(id, scene)| (*id, scene))
+    }
+
+    /// How many scenes are live.
+    #[must_use]
+    pub fn scene_count(&self) -> usize {
+        self.scenes.len()
+    }
+
+    /// What a retired identifier retired as, while it is remembered.
+    #[must_use]
+    pub fn retirement(&self, id: SceneId) -> Option<Retirement> {
+        self.retired.get(&id).copied()
+    }
+
+    /// The remembered retired identifiers, oldest first.
+    pub fn retired(&self) -> impl Iterator<Item = (SceneId, Retirement)> + '_ {
+        self.retired_order
+            .iter()
+            .filter_map(|id| self.retired.get(id).map(|retirement| (*id, *retirement)))
+    }
+
+    /// A module's current policy, if it supports cooperation.
+    #[must_use]
+    pub fn policy(&self, module: Module) -> Option<Policy> {
+        self.policies.get(&module).copied()
+    }
+
+    /// Every module's current policy, in module order: the AD API `get_policies` answer
+    /// (`[COOP-POL-GET.1]`).
+    pub fn policies(&self) -> impl Iterator<Item = PolicySetting> + '_ {
+        self.policies.iter().map(|(module, policy)| PolicySetting {
+            module: *module,
+            policy: *policy,
+        })
+    }
+
+    /// The merged decision the planner drives a live scene with (`[COOP-MERGE.1]`).
+    #[must_use]
+    pub fn merged_decision(&self, id: SceneId) -> Option<Decision> {
+        let scene = self.scenes.get(&id)?;
+        let policy = self.policies.get(&scene.module)?;
+        Some(scene.merged_decision(*policy))
+    }
+
+    /// Whether the operator activated what the module would not (`[COOP-FORCE-ACTIVATED.1]`).
+    #[must_use]
+    pub fn force_activated(&self, id: SceneId) -> Option<bool> {
+        self.scenes.get(&id).map(Scene::is_force_activated)
+    }
+
+    /// Whether the operator deactivated a running scene the module would go on with
+    /// (`[COOP-FORCE-DEACTIVATED.1]`).
+    #[must_use]
+    pub fn force_deactivated(&self, id: SceneId) -> Option<bool> {
+        self.scenes.get(&id).map(Scene::is_force_deactivated)
+    }
+
+    // ---------------------------------------------------------------------------------------
+    // Invariants
+    // ---------------------------------------------------------------------------------------
+
+    /// Checks every invariant of spec §8. `apply` asserts this after every input in debug
+    /// builds; the models and the property tests call it too.
+    ///
+    /// # Errors
+    /// The first [`Violation`] found.
+    pub fn check_invariants(&self) -> Result<(), Violation> {
+        let fail = |invariant, id| Err(Violation { invariant, id });
+        // [COOP-INV-DISJOINT.1]
+        if let Some(id) = self.scenes.keys().find(|id| self.retired.contains_key(id)) {
+            return fail(Invariant::Disjoint, Some(*id));
+        }
+        // [COOP-INV-RETIRED-ORDER.1]
+        let ordered: BTreeSet<&SceneId> = self.retired_order.iter().collect();
+        if ordered.len() != self.retired_order.len()
+            || !ordered.iter().copied().eq(self.retired.keys())
+        {
+            return fail(Invariant::RetiredOrder, None);
+        }
+        // [COOP-INV-RETIRED-BOUND.1]
+        if self.retired.len() > self.limits.retired_capacity {
+            return fail(Invariant::RetiredBound, None);
+        }
+        // [COOP-INV-LIVE-BOUND.1]
+        if self.scenes.len() > self.limits.max_scenes {
+            return fail(Invariant::LiveBound, None);
+        }
+        for (id, scene) in &self.scenes {
+            // [COOP-INV-LIVE-PHASE.1]
+            if scene.phase.is_terminal() {
+                return fail(Invariant::LivePhase, Some(*id));
+            }
+            // [COOP-INV-AGE.1]
+            if scene.age_ms > self.limits.ttl_ms {
+                return fail(Invariant::Age, Some(*id));
+            }
+            // [COOP-INV-MODULE.1]
+            if !self.policies.contains_key(&scene.module) {
+                return fail(Invariant::Module, Some(*id));
+            }
+        }
+        Ok(())
+    }
+}
