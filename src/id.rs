@@ -6,8 +6,9 @@ use core::fmt;
 ///
 /// The core never generates identifiers; they arrive in [`Input::Register`](crate::Input).
 /// An identifier belongs to one scene and one module for ever (spec §5.1).
+///
+/// With the `serde` feature it is (de)serialized as its hyphenated string.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SceneId([u8; 16]);
 
 impl SceneId {
@@ -43,6 +44,67 @@ impl fmt::Display for SceneId {
     }
 }
 
+/// A string that is not a UUID: 32 hexadecimal digits, optionally hyphenated as 8-4-4-4-12.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct InvalidSceneId {
+    /// The string that was given.
+    pub given: String,
+}
+
+impl fmt::Display for InvalidSceneId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{:?} is not a UUID (32 hexadecimal digits, optionally 8-4-4-4-12)",
+            self.given
+        )
+    }
+}
+
+impl std::error::Error for InvalidSceneId {}
+
+impl core::str::FromStr for SceneId {
+    type Err = InvalidSceneId;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let invalid = || InvalidSceneId {
+            given: text.to_owned(),
+        };
+        let hyphenated = text.len() == 36;
+        if hyphenated {
+            let hyphens_in_place = text
+                .char_indices()
+                .all(|(at, c)| matches!(at, 8 | 13 | 18 | 23) == (c == '-'));
+            if !hyphens_in_place {
+                return Err(invalid());
+            }
+        } else if text.len() != 32 {
+            return Err(invalid());
+        }
+        let mut value: u128 = 0;
+        for c in text.chars().filter(|c| *c != '-') {
+            let digit = c.to_digit(16).ok_or_else(invalid)?;
+            value = (value << 4) | u128::from(digit);
+        }
+        Ok(Self::from_u128(value))
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for SceneId {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for SceneId {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let text = <std::borrow::Cow<'de, str>>::deserialize(deserializer)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 impl fmt::Debug for SceneId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "SceneId({self})")
@@ -61,5 +123,24 @@ mod tests {
             format!("{id:?}"),
             "SceneId(01234567-89ab-cdef-0011-223344556677)"
         );
+    }
+
+    #[test]
+    fn parses_hyphenated_and_plain_forms_only() {
+        let id = SceneId::from_u128(0x0123_4567_89ab_cdef_0011_2233_4455_6677);
+        assert_eq!("01234567-89ab-cdef-0011-223344556677".parse(), Ok(id));
+        assert_eq!("0123456789ABCDEF0011223344556677".parse(), Ok(id));
+        assert_eq!(id.to_string().parse(), Ok(id));
+        for bad in [
+            "",
+            "0123",
+            "01234567-89ab-cdef-0011-22334455667",
+            "0123456789ab-cdef-0011-223344556677-",
+            "g1234567-89ab-cdef-0011-223344556677",
+            "0123456789abcdef00112233445566+7",
+            "01234567-89ab-cdef-0011-2233445566\u{e9}",
+        ] {
+            assert!(bad.parse::<SceneId>().is_err(), "{bad}");
+        }
     }
 }

@@ -58,7 +58,7 @@ pub use decision::{merge, Decision, OperatorDecision, Policy};
 pub use geometry::{
     Direction, Distance, FactorKind, Geometry, Pose, SteeringStatus, VelocityStatus,
 };
-pub use id::SceneId;
+pub use id::{InvalidSceneId, SceneId};
 pub use input::{Command, Input, PolicySetting};
 pub use invariant::{Invariant, Violation};
 pub use module::{Behavior, Module, Sequence, UnknownName};

@@ -174,6 +174,8 @@ pub enum Rejection {
         failure: CommandFailure,
         /// Every command's outcome, in batch order.
         outcomes: Vec<CommandOutcome>,
+        /// Every failing command's scene, in batch order.
+        failed: Vec<SceneId>,
     },
     /// `[COOP-POL-UNKNOWN.1]`: the module has no cooperation policy.
     UnknownPolicyModule {
@@ -258,15 +260,21 @@ impl fmt::Display for Rejection {
             Self::PhaseTransition { id, from, to } => {
                 write!(f, "scene {id} cannot go from {from} to {to}")
             }
-            Self::Commands { outcomes, .. } => {
+            Self::Commands {
+                outcomes, failed, ..
+            } => {
                 f.write_str("no command applied:")?;
-                let mut first = true;
-                for (index, outcome) in outcomes.iter().enumerate() {
-                    if let CommandOutcome::Failed(failure) = outcome {
-                        let separator = if first { " " } else { "; " };
-                        write!(f, "{separator}command {index}: {failure}")?;
-                        first = false;
-                    }
+                let failures =
+                    outcomes
+                        .iter()
+                        .enumerate()
+                        .filter_map(|(index, outcome)| match outcome {
+                            CommandOutcome::Failed(failure) => Some((index, failure)),
+                            CommandOutcome::Applied | CommandOutcome::Withheld => None,
+                        });
+                for (n, ((index, failure), id)) in failures.zip(failed).enumerate() {
+                    let separator = if n == 0 { " " } else { "; " };
+                    write!(f, "{separator}command {index} (scene {id}): {failure}")?;
                 }
                 Ok(())
             }

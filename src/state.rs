@@ -43,7 +43,7 @@ pub struct Limits {
     /// At most this many live scenes (`[COOP-REG-FULL.1]`). Default 4 096.
     pub max_scenes: usize,
     /// At most this many retired identifiers are remembered; beyond it the oldest is forgotten
-    /// (spec §5.1). Default 65 536.
+    /// (`[COOP-RETIRE.1]`). Default 65 536.
     pub retired_capacity: usize,
     /// At most this many entries in one batch (`[COOP-BATCH-LIMIT.1]`). Default 1 024.
     pub max_batch: usize,
@@ -184,8 +184,12 @@ impl Transition {
 ///
 /// Changed only by [`State::apply`]. `Clone + Eq + Hash`, with ordered containers only, so that
 /// a model checker can hold it and every iteration order is deterministic.
+///
+/// With the `serde` feature a state serializes with its maps as lists, and deserializes only if
+/// it passes [`State::check_invariants`].
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(into = "raw::State", try_from = "raw::State"))]
 pub struct State {
     limits: Limits,
     policies: BTreeMap<Module, Policy>,
@@ -408,8 +412,9 @@ impl State {
     }
 
     /// Moves a live scene to the retired set, forgetting the oldest retired identifier if the
-    /// set is full (spec §5.1).
+    /// set is full.
     fn retire(&mut self, id: SceneId, reason: RetireReason) {
+        // [COOP-RETIRE.1]
         let Some(scene) = self.scenes.remove(&id) else {
             return;
         };
@@ -472,10 +477,15 @@ impl State {
                     *outcome = CommandOutcome::Failed(failure);
                 }
             }
+            let failed = failures
+                .iter()
+                .filter_map(|&(at, _)| commands.get(at))
+                .map(|c| c.id);
             return Err(Rejection::Commands {
                 index,
                 failure,
                 outcomes,
+                failed: failed.collect(),
             });
         }
         // [COOP-CMD-APPLY.1]
@@ -673,5 +683,48 @@ impl State {
             }
         }
         Ok(())
+    }
+}
+
+/// The serialized form of a [`State`]: maps as lists, so that any format can carry it.
+#[cfg(feature = "serde")]
+mod raw {
+    use super::{Limits, Module, Policy, Retirement, Scene, SceneId, Violation};
+
+    #[derive(serde::Serialize, serde::Deserialize)]
+    pub(super) struct State {
+        limits: Limits,
+        policies: Vec<(Module, Policy)>,
+        scenes: Vec<(SceneId, Scene)>,
+        retired: Vec<(SceneId, Retirement)>,
+        retired_order: Vec<SceneId>,
+    }
+
+    impl From<super::State> for State {
+        fn from(state: super::State) -> Self {
+            Self {
+                limits: state.limits,
+                policies: state.policies.into_iter().collect(),
+                scenes: state.scenes.into_iter().collect(),
+                retired: state.retired.into_iter().collect(),
+                retired_order: state.retired_order.into_iter().collect(),
+            }
+        }
+    }
+
+    impl TryFrom<State> for super::State {
+        type Error = Violation;
+
+        fn try_from(raw: State) -> Result<Self, Violation> {
+            let state = Self {
+                limits: raw.limits,
+                policies: raw.policies.into_iter().collect(),
+                scenes: raw.scenes.into_iter().collect(),
+                retired: raw.retired.into_iter().collect(),
+                retired_order: raw.retired_order.into_iter().collect(),
+            };
+            state.check_invariants()?;
+            Ok(state)
+        }
     }
 }

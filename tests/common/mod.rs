@@ -1,0 +1,110 @@
+//! Fixtures shared by the integration tests.
+#![allow(dead_code, unreachable_pub)]
+
+use cooperation::*;
+
+/// Lane change: optional by default.
+pub const LANE_CHANGE: Module = Module::new(Behavior::LaneChange);
+/// Avoidance (change): required by default.
+pub const AVOIDANCE: Module = Module::with_sequence(Behavior::Avoidance, Sequence::Change);
+/// Intersection: not configured, so it has no policy.
+pub const INTERSECTION: Module = Module::new(Behavior::Intersection);
+
+pub const TTL_MS: u64 = 100;
+
+pub fn id(n: u128) -> SceneId {
+    SceneId::from_u128(n)
+}
+
+pub fn config() -> Config {
+    Config {
+        policies: [
+            (LANE_CHANGE, Policy::Optional),
+            (AVOIDANCE, Policy::Required),
+        ]
+        .into(),
+        limits: Limits {
+            ttl_ms: TTL_MS,
+            max_scenes: 4,
+            retired_capacity: 3,
+            max_batch: 4,
+        },
+    }
+}
+
+pub fn state() -> State {
+    State::new(config()).expect("valid configuration")
+}
+
+pub fn register(id: SceneId, module: Module, decision: Decision) -> Input {
+    Input::Register {
+        id,
+        module,
+        decision,
+        geometry: Geometry::velocity(10.0),
+    }
+}
+
+pub fn update(id: SceneId, module: Module, phase: Phase, decision: Decision) -> Input {
+    Input::Update {
+        id,
+        module,
+        phase,
+        decision,
+        geometry: Geometry::velocity(5.0),
+    }
+}
+
+pub fn commands(list: &[(SceneId, OperatorDecision)]) -> Input {
+    Input::SetCommands {
+        commands: list
+            .iter()
+            .map(|&(id, decision)| Command { id, decision })
+            .collect(),
+    }
+}
+
+pub fn policies(list: &[(Module, Policy)]) -> Input {
+    Input::SetPolicies {
+        policies: list
+            .iter()
+            .map(|&(module, policy)| PolicySetting { module, policy })
+            .collect(),
+    }
+}
+
+/// Applies `input`, asserting that `rule` fired and the invariants hold.
+pub fn fires(state: &mut State, input: Input, rule: Rule) -> Transition {
+    let transition = state
+        .apply(&input)
+        .unwrap_or_else(|r| panic!("{input:?} rejected: {r}"));
+    assert_eq!(transition.rule, rule, "{input:?}");
+    state.check_invariants().expect("invariants hold");
+    transition
+}
+
+/// Applies `input`, asserting that `rule` rejected it and that nothing changed.
+pub fn rejects(state: &mut State, input: Input, rule: Rule) -> Rejection {
+    let before = state.clone();
+    let rejection = state.apply(&input).expect_err("rejected");
+    assert_eq!(rejection.rule(), rule, "{input:?}: {rejection}");
+    assert_eq!(*state, before, "a rejection changed the state");
+    assert!(!rejection.to_string().is_empty());
+    rejection
+}
+
+/// A state with one live scene of each configured module: 1 (lane change), 2 (avoidance).
+pub fn with_scenes() -> State {
+    let mut state = state();
+    fires(
+        &mut state,
+        register(id(1), LANE_CHANGE, Decision::Deactivate),
+        Rule::RegisterNew,
+    );
+    fires(
+        &mut state,
+        register(id(2), AVOIDANCE, Decision::Activate),
+        Rule::RegisterNew,
+    );
+    state
+}

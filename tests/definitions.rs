@@ -1,0 +1,387 @@
+//! One test per definition of spec §6, named after its tag.
+
+mod common;
+
+use common::*;
+use cooperation::*;
+
+/// `[COOP-RETIRE.1]`: the retired set keeps the newest `retired_capacity` identifiers; a
+/// forgotten identifier is unknown again.
+#[test]
+fn coop_retire_1() {
+    let mut state = state();
+    for n in 1..=4 {
+        fires(
+            &mut state,
+            register(id(n), LANE_CHANGE, Decision::Activate),
+            Rule::RegisterNew,
+        );
+        fires(
+            &mut state,
+            Input::Remove {
+                id: id(n),
+                module: LANE_CHANGE,
+            },
+            Rule::OwnerRemove,
+        );
+    }
+    let remembered: Vec<SceneId> = state.retired().map(|(id, _)| id).collect();
+    assert_eq!(remembered, [id(2), id(3), id(4)]);
+    assert_eq!(state.retirement(id(1)), None);
+    rejects(
+        &mut state,
+        commands(&[(id(1), OperatorDecision::Activate)]),
+        Rule::CommandUnknown,
+    );
+    rejects(
+        &mut state,
+        commands(&[(id(2), OperatorDecision::Activate)]),
+        Rule::CommandRetired,
+    );
+    fires(
+        &mut state,
+        register(id(1), AVOIDANCE, Decision::Activate),
+        Rule::RegisterNew,
+    );
+}
+
+/// `[COOP-MERGE.1]`: the planner's merged decision follows the table for live scenes only.
+#[test]
+fn coop_merge_1() {
+    let mut state = with_scenes();
+    assert_eq!(state.merged_decision(id(1)), Some(Decision::Deactivate));
+    assert_eq!(
+        state.merged_decision(id(2)),
+        Some(Decision::Deactivate),
+        "required, undecided"
+    );
+    fires(
+        &mut state,
+        commands(&[(id(2), OperatorDecision::Autonomous)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(state.merged_decision(id(2)), Some(Decision::Activate));
+    assert_eq!(state.merged_decision(id(9)), None);
+    for operator in OperatorDecision::ALL {
+        for policy in Policy::ALL {
+            for module in Decision::ALL {
+                let expected = match (operator, policy) {
+                    (OperatorDecision::Deactivate, _) => Decision::Deactivate,
+                    (OperatorDecision::Activate, _) => Decision::Activate,
+                    (OperatorDecision::Undecided, Policy::Required) => Decision::Deactivate,
+                    _ => module,
+                };
+                assert_eq!(merge(operator, policy, module), expected);
+            }
+        }
+    }
+}
+
+/// `[COOP-CANCELLABLE.1]`: waiting and running scenes are cancellable; aborting is not.
+#[test]
+fn coop_cancellable_1() {
+    let mut state = with_scenes();
+    let cancellable = |state: &State| state.status(id(1)).map(|status| status.cancellable);
+    assert_eq!(cancellable(&state), Some(true));
+    fires(
+        &mut state,
+        update(id(1), LANE_CHANGE, Phase::Running, Decision::Activate),
+        Rule::OwnerUpdate,
+    );
+    assert_eq!(cancellable(&state), Some(true));
+    fires(
+        &mut state,
+        update(id(1), LANE_CHANGE, Phase::Aborting, Decision::Activate),
+        Rule::OwnerUpdate,
+    );
+    assert_eq!(cancellable(&state), Some(false));
+    let expected = [true, true, false, false, false];
+    assert_eq!(Phase::ALL.map(Phase::is_cancellable), expected);
+}
+
+/// `[COOP-FORCE-ACTIVATED.1]`: operator activate over a module deactivate, while cancellable.
+#[test]
+fn coop_force_activated_1() {
+    let mut state = with_scenes();
+    assert_eq!(state.force_activated(id(1)), Some(false));
+    fires(
+        &mut state,
+        commands(&[(id(1), OperatorDecision::Activate)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(state.force_activated(id(1)), Some(true));
+    assert_eq!(state.merged_decision(id(1)), Some(Decision::Activate));
+    fires(
+        &mut state,
+        update(id(1), LANE_CHANGE, Phase::Running, Decision::Activate),
+        Rule::OwnerUpdate,
+    );
+    assert_eq!(
+        state.force_activated(id(1)),
+        Some(false),
+        "module agrees now"
+    );
+    fires(
+        &mut state,
+        update(id(1), LANE_CHANGE, Phase::Aborting, Decision::Deactivate),
+        Rule::OwnerUpdate,
+    );
+    assert_eq!(state.force_activated(id(1)), Some(false), "not cancellable");
+    assert_eq!(state.force_activated(id(9)), None);
+}
+
+/// `[COOP-FORCE-DEACTIVATED.1]`: operator deactivate over a module activate, while running.
+#[test]
+fn coop_force_deactivated_1() {
+    let mut state = with_scenes();
+    fires(
+        &mut state,
+        commands(&[(id(2), OperatorDecision::Deactivate)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(
+        state.force_deactivated(id(2)),
+        Some(false),
+        "waiting, not running"
+    );
+    fires(
+        &mut state,
+        update(id(2), AVOIDANCE, Phase::Running, Decision::Activate),
+        Rule::OwnerUpdate,
+    );
+    assert_eq!(state.force_deactivated(id(2)), Some(true));
+    assert_eq!(state.merged_decision(id(2)), Some(Decision::Deactivate));
+    fires(
+        &mut state,
+        commands(&[(id(2), OperatorDecision::Undecided)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(
+        state.force_deactivated(id(2)),
+        Some(false),
+        "the policy, not the operator"
+    );
+    assert_eq!(state.merged_decision(id(2)), Some(Decision::Deactivate));
+    assert_eq!(state.force_deactivated(id(9)), None);
+}
+
+/// `[COOP-OUT-STATUS.1]`: one status per live scene, in identifier order.
+#[test]
+fn coop_out_status_1() {
+    let mut state = state();
+    fires(
+        &mut state,
+        register(id(5), LANE_CHANGE, Decision::Activate),
+        Rule::RegisterNew,
+    );
+    fires(
+        &mut state,
+        register(id(2), AVOIDANCE, Decision::Deactivate),
+        Rule::RegisterNew,
+    );
+    fires(
+        &mut state,
+        commands(&[(id(5), OperatorDecision::Deactivate)]),
+        Rule::CommandApply,
+    );
+    let mut out = Vec::new();
+    state.statuses_into(&mut out);
+    assert_eq!(
+        out,
+        [
+            CooperationStatus {
+                id: id(2),
+                module_decision: Decision::Deactivate,
+                operator_decision: OperatorDecision::Undecided,
+                cancellable: true
+            },
+            CooperationStatus {
+                id: id(5),
+                module_decision: Decision::Activate,
+                operator_decision: OperatorDecision::Deactivate,
+                cancellable: true
+            },
+        ]
+    );
+}
+
+/// `[COOP-OUT-ORDER.1]`: velocity and steering factors, each nearest first, ties by identifier,
+/// NaN last.
+#[test]
+fn coop_out_order_1() {
+    let mut state = State::new(Config {
+        limits: Limits {
+            max_scenes: 16,
+            ..Limits::default()
+        },
+        ..config()
+    })
+    .expect("valid");
+    let velocity = [(1, 30.0), (2, f32::NAN), (3, -5.0), (4, 30.0)];
+    for (n, distance) in velocity {
+        let input = Input::Register {
+            id: id(n),
+            module: LANE_CHANGE,
+            decision: Decision::Activate,
+            geometry: Geometry::velocity(distance),
+        };
+        fires(&mut state, input, Rule::RegisterNew);
+    }
+    for (n, start) in [(10, 50.0), (11, 0.5)] {
+        let input = Input::Register {
+            id: id(n),
+            module: AVOIDANCE,
+            decision: Decision::Activate,
+            geometry: Geometry::steering(Direction::Right, start, start + 20.0),
+        };
+        fires(&mut state, input, Rule::RegisterNew);
+    }
+    let mut velocity_out = Vec::new();
+    state.velocity_factors_into(&mut velocity_out);
+    let order: Vec<SceneId> = velocity_out.iter().map(|f| f.cooperation.id).collect();
+    assert_eq!(order, [id(3), id(1), id(4), id(2)]);
+    assert!(velocity_out
+        .iter()
+        .all(|f| f.behavior == Behavior::LaneChange));
+    let mut steering_out = Vec::new();
+    state.steering_factors_into(&mut steering_out);
+    let order: Vec<SceneId> = steering_out.iter().map(|f| f.cooperation.id).collect();
+    assert_eq!(order, [id(11), id(10)]);
+    assert!(steering_out
+        .iter()
+        .all(|f| f.sequence == Sequence::Change && f.direction == Direction::Right));
+}
+
+/// `[COOP-API-SET-COMMANDS.1]`: status plus one outcome per command.
+#[test]
+fn coop_api_set_commands_1() {
+    let mut state = with_scenes();
+    let applied = state.set_commands(vec![
+        Command {
+            id: id(1),
+            decision: OperatorDecision::Activate,
+        },
+        Command {
+            id: id(2),
+            decision: OperatorDecision::Autonomous,
+        },
+    ]);
+    assert_eq!(applied.status, ResponseStatus::success());
+    assert_eq!(applied.outcomes, [CommandOutcome::Applied; 2]);
+    let rejected = state.set_commands(vec![
+        Command {
+            id: id(9),
+            decision: OperatorDecision::Activate,
+        },
+        Command {
+            id: id(2),
+            decision: OperatorDecision::Deactivate,
+        },
+    ]);
+    assert!(!rejected.status.success);
+    assert_eq!(
+        rejected.outcomes,
+        [
+            CommandOutcome::Failed(CommandFailure::UnknownScene),
+            CommandOutcome::Withheld
+        ]
+    );
+    assert_eq!(
+        state.scene(id(2)).map(Scene::operator_decision),
+        Some(OperatorDecision::Autonomous)
+    );
+    let too_many = state.set_commands(vec![
+        Command {
+            id: id(1),
+            decision: OperatorDecision::Activate
+        };
+        5
+    ]);
+    assert_eq!(too_many.status.code, ResponseStatus::PARAMETER_ERROR);
+    assert_eq!(too_many.outcomes, [CommandOutcome::Withheld; 5]);
+}
+
+/// `[COOP-API-SET-POLICIES.1]`: applies all or nothing and answers with a status.
+#[test]
+fn coop_api_set_policies_1() {
+    let mut state = with_scenes();
+    let status = state.set_policies(vec![PolicySetting {
+        module: AVOIDANCE,
+        policy: Policy::Optional,
+    }]);
+    assert_eq!(status, ResponseStatus::success());
+    let status = state.set_policies(vec![
+        PolicySetting {
+            module: LANE_CHANGE,
+            policy: Policy::Required,
+        },
+        PolicySetting {
+            module: INTERSECTION,
+            policy: Policy::Required,
+        },
+    ]);
+    assert!(!status.success);
+    assert_eq!(status.code, ResponseStatus::PARAMETER_ERROR);
+    assert_eq!(state.policy(LANE_CHANGE), Some(Policy::Optional));
+}
+
+/// `[COOP-POL-GET.1]`: every configured module's current policy, in module order.
+#[test]
+fn coop_pol_get_1() {
+    let mut state = with_scenes();
+    fires(
+        &mut state,
+        policies(&[(LANE_CHANGE, Policy::Required)]),
+        Rule::PolicySet,
+    );
+    let (status, list) = state.get_policies();
+    assert_eq!(status, ResponseStatus::success());
+    assert_eq!(
+        list,
+        [
+            PolicySetting {
+                module: AVOIDANCE,
+                policy: Policy::Required
+            },
+            PolicySetting {
+                module: LANE_CHANGE,
+                policy: Policy::Required
+            },
+        ]
+    );
+}
+
+/// `[COOP-API-STATUS.1]`: success is code 0, an empty batch warns NO_EFFECT, a rejection is a
+/// PARAMETER_ERROR whose message names each failing command.
+#[test]
+fn coop_api_status_1() {
+    let mut state = with_scenes();
+    let empty = state.set_commands(Vec::new());
+    assert_eq!(
+        empty.status,
+        ResponseStatus {
+            success: true,
+            code: ResponseStatus::NO_EFFECT,
+            message: "the batch is empty".into()
+        }
+    );
+    assert_eq!(
+        state.set_policies(Vec::new()).code,
+        ResponseStatus::NO_EFFECT
+    );
+    let rejected = state.set_commands(vec![
+        Command {
+            id: id(1),
+            decision: OperatorDecision::Activate,
+        },
+        Command {
+            id: id(9),
+            decision: OperatorDecision::Activate,
+        },
+    ]);
+    assert_eq!(rejected.status.code, ResponseStatus::PARAMETER_ERROR);
+    assert_eq!(
+        rejected.status.message,
+        "no command applied: command 1 (scene 00000000-0000-0000-0000-000000000009): unknown scene"
+    );
+}
