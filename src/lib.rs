@@ -42,6 +42,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
+
 mod decision;
 mod geometry;
 mod id;
@@ -69,3 +76,8 @@ pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};
 pub use rule::Rule;
 pub use state::{Config, ConfigError, Limits, Scene, State, Transition};
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -1,0 +1,170 @@
+//! Property tests: random input sequences over a small universe of identifiers and modules,
+//! checking after every step what must hold whatever the inputs.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use common::*;
+use cooperation::*;
+use proptest::prelude::*;
+
+const IDS: u128 = 6;
+
+fn any_id() -> impl Strategy<Value = SceneId> {
+    (1..=IDS).prop_map(SceneId::from_u128)
+}
+
+fn any_module() -> impl Strategy<Value = Module> {
+    prop_oneof![Just(LANE_CHANGE), Just(AVOIDANCE), Just(INTERSECTION)]
+}
+
+fn any_decision() -> impl Strategy<Value = Decision> {
+    prop_oneof![Just(Decision::Deactivate), Just(Decision::Activate)]
+}
+
+fn any_operator() -> impl Strategy<Value = OperatorDecision> {
+    proptest::sample::select(OperatorDecision::ALL.to_vec())
+}
+
+fn any_phase() -> impl Strategy<Value = Phase> {
+    proptest::sample::select(Phase::ALL.to_vec())
+}
+
+fn any_geometry() -> impl Strategy<Value = Geometry> {
+    prop_oneof![
+        (-10.0f32..100.0).prop_map(Geometry::velocity),
+        (-10.0f32..100.0).prop_map(|start| Geometry::steering(Direction::Left, start, start + 5.0)),
+    ]
+}
+
+fn any_input() -> impl Strategy<Value = Input> {
+    prop_oneof![
+        3 => (any_id(), any_module(), any_decision(), any_geometry())
+            .prop_map(|(id, module, decision, geometry)| Input::Register { id, module, decision, geometry }),
+        4 => (any_id(), any_module(), any_phase(), any_decision(), any_geometry())
+            .prop_map(|(id, module, phase, decision, geometry)| Input::Update { id, module, phase, decision, geometry }),
+        1 => (any_id(), any_module()).prop_map(|(id, module)| Input::Remove { id, module }),
+        3 => proptest::collection::vec((any_id(), any_operator()).prop_map(|(id, decision)| Command { id, decision }), 0..6)
+            .prop_map(|commands| Input::SetCommands { commands }),
+        2 => proptest::collection::vec(
+                (any_module(), proptest::sample::select(Policy::ALL.to_vec()))
+                    .prop_map(|(module, policy)| PolicySetting { module, policy }),
+                0..4,
+            )
+            .prop_map(|policies| Input::SetPolicies { policies }),
+        2 => (0..=60u64).prop_map(|elapsed_ms| Input::Tick { elapsed_ms }),
+    ]
+}
+
+fn roomy_state() -> State {
+    let mut config = config();
+    config.limits.retired_capacity = 64;
+    State::new(config).expect("valid")
+}
+
+fn merged_all(state: &State) -> BTreeMap<SceneId, Decision> {
+    state
+        .scenes()
+        .filter_map(|(id, _)| state.merged_decision(id).map(|m| (id, m)))
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    /// Invariants hold after every step; a rejection changes nothing; rule kinds agree with
+    /// the result.
+    #[test]
+    fn invariants_hold_and_rejections_change_nothing(inputs in proptest::collection::vec(any_input(), 0..64)) {
+        let mut state = state();
+        for input in &inputs {
+            let before = state.clone();
+            match state.apply(input) {
+                Ok(transition) => prop_assert!(!transition.rule.is_rejection(), "{:?}", transition),
+                Err(rejection) => {
+                    prop_assert!(rejection.rule().is_rejection());
+                    prop_assert_eq!(&state, &before, "{} changed the state", rejection);
+                }
+            }
+            prop_assert_eq!(state.check_invariants(), Ok(()));
+        }
+    }
+
+    /// The same inputs from the same start give the same states and results.
+    #[test]
+    fn apply_is_deterministic(inputs in proptest::collection::vec(any_input(), 0..64)) {
+        let (mut a, mut b) = (state(), state());
+        for input in &inputs {
+            prop_assert_eq!(a.apply(input), b.apply(input));
+            prop_assert_eq!(&a, &b);
+        }
+    }
+
+    /// An identifier keeps its module for ever; once retired it is never live again (the
+    /// retired set is larger than the identifier universe here).
+    #[test]
+    fn identifiers_are_stable(inputs in proptest::collection::vec(any_input(), 0..96)) {
+        let mut state = roomy_state();
+        let mut owner: BTreeMap<SceneId, Module> = BTreeMap::new();
+        let mut retired: BTreeMap<SceneId, Retirement> = BTreeMap::new();
+        for input in &inputs {
+            let _ = state.apply(input);
+            for (id, scene) in state.scenes() {
+                prop_assert_eq!(*owner.entry(id).or_insert(scene.module()), scene.module());
+                prop_assert!(!retired.contains_key(&id), "{} came back", id);
+            }
+            for (id, retirement) in state.retired() {
+                prop_assert_eq!(*retired.entry(id).or_insert(retirement), retirement, "retirements are sticky");
+                prop_assert_eq!(owner.get(&id), Some(&retirement.module));
+            }
+            prop_assert_eq!(state.retired().count(), retired.len(), "nothing is forgotten below capacity");
+        }
+    }
+
+    /// Only commands change operator decisions; only a policy change or a scene's own inputs
+    /// change a merged decision; a policy change alters exactly the undecided scenes of the
+    /// named modules whose module decision is activate.
+    #[test]
+    fn decisions_change_only_by_their_inputs(inputs in proptest::collection::vec(any_input(), 0..64)) {
+        let mut state = state();
+        for input in &inputs {
+            let before = state.clone();
+            let merged_before = merged_all(&state);
+            let Ok(transition) = state.apply(input) else { continue };
+            let merged_after = merged_all(&state);
+            for (id, scene) in state.scenes() {
+                let Some(old) = before.scene(id) else { continue };
+                if transition.rule != Rule::CommandApply {
+                    prop_assert_eq!(old.operator_decision(), scene.operator_decision());
+                }
+                let touched_by_owner = matches!(input, Input::Update { id: target, .. } if *target == id);
+                let named_by_command = matches!(input, Input::SetCommands { commands } if commands.iter().any(|c| c.id == id));
+                let named_module = matches!(input, Input::SetPolicies { policies } if policies.iter().any(|p| p.module == scene.module()));
+                let changed = merged_before.get(&id) != merged_after.get(&id);
+                if changed {
+                    prop_assert!(touched_by_owner || named_by_command || named_module, "{:?} changed {}", input, id);
+                }
+                if named_module {
+                    let undecided = scene.operator_decision() == OperatorDecision::Undecided;
+                    let policy_moved = before.policy(scene.module()) != state.policy(scene.module());
+                    let expect_change = undecided && policy_moved && scene.module_decision() == Decision::Activate;
+                    prop_assert_eq!(changed, expect_change, "policy change at {}", id);
+                }
+            }
+        }
+    }
+
+    /// Serialized states and inputs read back equal.
+    #[test]
+    fn serde_round_trips(inputs in proptest::collection::vec(any_input(), 0..32)) {
+        let mut state = state();
+        for input in &inputs {
+            let text = serde_json::to_string(input).expect("serializes");
+            prop_assert_eq!(&serde_json::from_str::<Input>(&text).expect("reads back"), input);
+            let _ = state.apply(input);
+        }
+        let text = serde_json::to_string(&state).expect("serializes");
+        prop_assert_eq!(serde_json::from_str::<State>(&text).expect("reads back"), state);
+    }
+}

@@ -1,0 +1,194 @@
+//! Keeps `spec/cooperation.md`, the code and the tests in lockstep, mechanically.
+
+mod spec_tables;
+
+use std::collections::BTreeSet;
+
+use cooperation::{merge, Decision, Invariant, OperatorDecision, Phase, Policy, Rule};
+use spec_tables::*;
+
+/// The `#### [TAG]` headings of the spec section whose heading starts `## {number}.`.
+fn section_tags(spec: &str, number: u32) -> BTreeSet<String> {
+    let start = format!("## {number}.");
+    let mut in_section = false;
+    let mut tags = BTreeSet::new();
+    for line in spec.lines() {
+        if line.starts_with("## ") {
+            in_section = line.starts_with(&start);
+        } else if in_section {
+            if let Some(rest) = line.strip_prefix("#### [") {
+                let tag = rest.split(']').next().expect("a closing bracket");
+                assert!(tags.insert(tag.to_owned()), "tag {tag} is defined twice");
+            }
+        }
+    }
+    tags
+}
+
+/// Every `[COOP-…]` tag written anywhere in `text`.
+fn mentioned_tags(text: &str) -> BTreeSet<String> {
+    text.split('[')
+        .skip(1)
+        .filter_map(|rest| rest.split(']').next())
+        .filter(|tag| tag.starts_with("COOP-") && !tag.contains(char::is_whitespace))
+        .map(str::to_owned)
+        .collect()
+}
+
+fn read_dir(dir: &str) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
+    let mut text = String::new();
+    for entry in std::fs::read_dir(path).expect("directory") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            text += &std::fs::read_to_string(path).expect("readable");
+        }
+    }
+    text
+}
+
+fn test_name(tag: &str) -> String {
+    tag.to_lowercase().replace(['-', '.'], "_")
+}
+
+#[test]
+fn rule_tags_equal_the_rule_enum() {
+    let spec_rules = section_tags(&spec(), 5);
+    let code_rules: BTreeSet<String> = Rule::ALL.iter().map(|rule| rule.tag().to_owned()).collect();
+    assert_eq!(spec_rules, code_rules);
+    assert_eq!(code_rules.len(), Rule::ALL.len(), "rule tags are distinct");
+}
+
+#[test]
+fn invariant_tags_equal_the_invariant_enum() {
+    let spec_invariants = section_tags(&spec(), 8);
+    let code: BTreeSet<String> = Invariant::ALL
+        .iter()
+        .map(|inv| inv.tag().to_owned())
+        .collect();
+    assert_eq!(spec_invariants, code);
+}
+
+#[test]
+fn every_rule_and_definition_is_tagged_in_the_code() {
+    let spec = spec();
+    let source = read_dir("src");
+    let in_code = mentioned_tags(&source);
+    for tag in section_tags(&spec, 5)
+        .iter()
+        .chain(&section_tags(&spec, 6))
+        .chain(&section_tags(&spec, 8))
+    {
+        assert!(
+            in_code.contains(tag),
+            "{tag} is not marked `[{tag}]` anywhere in src/"
+        );
+    }
+    let defined: BTreeSet<String> = (5..=9).flat_map(|n| section_tags(&spec, n)).collect();
+    for tag in &in_code {
+        assert!(
+            defined.contains(tag),
+            "src/ mentions [{tag}], which the spec does not define"
+        );
+    }
+}
+
+#[test]
+fn every_spec_reference_is_defined() {
+    let spec = spec();
+    let defined: BTreeSet<String> = (5..=9).flat_map(|n| section_tags(&spec, n)).collect();
+    for tag in mentioned_tags(&spec) {
+        assert!(
+            defined.contains(&tag),
+            "the spec refers to [{tag}], which it does not define"
+        );
+    }
+}
+
+#[test]
+fn every_tag_has_a_test_named_after_it() {
+    let spec = spec();
+    let tests = read_dir("tests");
+    for section in [5, 6, 8, 9] {
+        for tag in section_tags(&spec, section) {
+            let name = format!("fn {}()", test_name(&tag));
+            assert!(
+                tests.contains(&name),
+                "no test `{name}` for [{tag}] (spec §{section})"
+            );
+        }
+    }
+}
+
+#[test]
+fn rule_arms_are_tagged_in_the_transition_function() {
+    let state_rs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/state.rs"))
+        .expect("readable");
+    for rule in Rule::ALL {
+        assert!(
+            state_rs.contains(&format!("[{}]", rule.tag())),
+            "{} has no tagged arm",
+            rule.tag()
+        );
+    }
+}
+
+#[test]
+fn merge_table_is_complete_and_matches_the_code() {
+    let rows = table(&spec(), "| operator | policy | module | merged |");
+    let mut seen = BTreeSet::new();
+    for row in &rows {
+        let [o, p, m, merged] = row.as_slice() else {
+            panic!("4 cells: {row:?}")
+        };
+        let key = (
+            operator(o),
+            policy(p).expect("no '-' here"),
+            decision(m).expect("no '-' here"),
+        );
+        assert!(seen.insert(key), "row {row:?} repeats");
+        assert_eq!(
+            merge(key.0, key.1, key.2),
+            decision(merged).expect("a decision"),
+            "{row:?}"
+        );
+    }
+    let domain = OperatorDecision::ALL.len() * Policy::ALL.len() * Decision::ALL.len();
+    assert_eq!(seen.len(), domain, "the table covers the whole domain");
+}
+
+#[test]
+fn lifecycle_table_is_complete_and_matches_the_code() {
+    let spec = spec();
+    let rows = table(&spec, "| from \\ to |");
+    let header = spec
+        .lines()
+        .find(|l| l.starts_with("| from \\ to |"))
+        .expect("header");
+    let columns: Vec<Phase> = header
+        .trim_matches('|')
+        .split('|')
+        .skip(1)
+        .map(|c| phase(c.trim()))
+        .collect();
+    assert_eq!(columns, Phase::ALL);
+    let from: Vec<Phase> = rows.iter().map(|row| phase(&row[0])).collect();
+    assert_eq!(from, Phase::ALL);
+    for row in &rows {
+        let from = phase(&row[0]);
+        for (to, cell) in columns.iter().zip(&row[1..]) {
+            let allowed = match cell.as_str() {
+                "✓" => true,
+                "✗" => false,
+                other => panic!("cell {other:?}"),
+            };
+            // A terminal phase is never live, so its row forbids everything.
+            assert_eq!(
+                from.may_become(*to) && !from.is_terminal(),
+                allowed,
+                "{from} -> {to}"
+            );
+            assert_eq!(from.may_become(*to), allowed, "{from} -> {to}");
+        }
+    }
+}
