@@ -3,6 +3,7 @@
 //! Floating-point values compare and hash by their bit patterns, so that the state that holds
 //! them stays `Eq + Hash`: `0.0` and `-0.0` differ, and a NaN equals the same NaN.
 
+use core::cmp::Ordering;
 use core::hash::{Hash, Hasher};
 
 /// A pose in the map frame: a position and an orientation quaternion (`geometry_msgs/Pose`).
@@ -37,6 +38,27 @@ impl Hash for Pose {
     }
 }
 
+impl PartialOrd for Pose {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Pose {
+    /// Component by component in IEEE 754 total order: consistent with equality.
+    fn cmp(&self, other: &Self) -> Ordering {
+        let pairs = self
+            .position
+            .iter()
+            .chain(&self.orientation)
+            .zip(other.position.iter().chain(&other.orientation));
+        pairs
+            .map(|(a, b)| a.total_cmp(b))
+            .find(|o| o.is_ne())
+            .unwrap_or(Ordering::Equal)
+    }
+}
+
 /// A distance along the path in metres (`float32` on the wire). Compares by bit pattern.
 #[derive(Clone, Copy, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -57,10 +79,23 @@ impl Hash for Distance {
 }
 
 impl Distance {
-    /// A total order: negative before positive, NaN last (`f32::total_cmp`).
+    /// A total order: negative before positive, NaN last (`f32::total_cmp`); the same as `Ord`.
     #[must_use]
-    pub fn total_cmp(&self, other: &Self) -> core::cmp::Ordering {
+    pub fn total_cmp(&self, other: &Self) -> Ordering {
         self.0.total_cmp(&other.0)
+    }
+}
+
+impl PartialOrd for Distance {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Distance {
+    /// IEEE 754 total order (`-0.0 < 0.0`, NaN last): consistent with equality.
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.total_cmp(other)
     }
 }
 
@@ -116,7 +151,7 @@ pub enum FactorKind {
 }
 
 /// A scene's geometry, by kind. The kind is fixed at registration (spec `[COOP-OWN-KIND.1]`).
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Geometry {
     /// A velocity scene: where it is and how far ahead.

@@ -84,7 +84,7 @@ impl core::fmt::Display for ConfigError {
 impl std::error::Error for ConfigError {}
 
 /// A live scene: what the rules read and write.
-#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Scene {
     module: Module,
@@ -602,6 +602,48 @@ impl State {
             .filter_map(|id| self.retired.get(id).map(|retirement| (*id, *retirement)))
     }
 
+    /// The remembered retired identifiers, in identifier order.
+    pub fn retirements(&self) -> impl Iterator<Item = (SceneId, Retirement)> + '_ {
+        self.retired
+            .iter()
+            .map(|(id, retirement)| (*id, *retirement))
+    }
+
+    /// This state with every identifier renamed by `rename`, or `None` if `rename` gives two
+    /// identifiers the same name.
+    ///
+    /// No rule reads an identifier's value, only whether two are equal and their order: a
+    /// renamed state behaves as this one does with the names changed, except that scenes
+    /// expiring on the same tick retire in the order of their new names. Model checkers use it
+    /// for symmetry reduction.
+    #[must_use]
+    pub fn relabel(&self, rename: impl Fn(SceneId) -> SceneId) -> Option<Self> {
+        let scenes: BTreeMap<SceneId, Scene> = self
+            .scenes
+            .iter()
+            .map(|(id, scene)| (rename(*id), scene.clone()))
+            .collect();
+        let retired: BTreeMap<SceneId, Retirement> = self
+            .retired
+            .iter()
+            .map(|(id, retirement)| (rename(*id), *retirement))
+            .collect();
+        let renamed = Self {
+            limits: self.limits,
+            policies: self.policies.clone(),
+            retired_order: self.retired_order.iter().map(|id| rename(*id)).collect(),
+            scenes,
+            retired,
+        };
+        let distinct = renamed.scenes.len() == self.scenes.len()
+            && renamed.retired.len() == self.retired.len()
+            && renamed
+                .scenes
+                .keys()
+                .all(|id| !renamed.retired.contains_key(id));
+        distinct.then_some(renamed)
+    }
+
     /// A module's current policy, if it supports cooperation.
     #[must_use]
     pub fn policy(&self, module: Module) -> Option<Policy> {
@@ -642,6 +684,26 @@ impl State {
     // Invariants
     // ---------------------------------------------------------------------------------------
 
+    /// Whether the retirement order lists exactly the retired identifiers, each once. Without
+    /// allocating for the small sets a model checker sees, since `apply` asserts it every time.
+    fn retired_order_is_exact(&self) -> bool {
+        let order = &self.retired_order;
+        if order.len() != self.retired.len()
+            || !order.iter().all(|id| self.retired.contains_key(id))
+        {
+            return false;
+        }
+        // Same length and every entry retired: exact if and only if no entry repeats.
+        if order.len() <= 32 {
+            order
+                .iter()
+                .enumerate()
+                .all(|(at, id)| !order.iter().skip(at + 1).any(|other| other == id))
+        } else {
+            order.iter().collect::<BTreeSet<_>>().len() == order.len()
+        }
+    }
+
     /// Checks every invariant of spec §8. `apply` asserts this after every input in debug
     /// builds; the models and the property tests call it too.
     ///
@@ -654,10 +716,7 @@ impl State {
             return fail(Invariant::Disjoint, Some(*id));
         }
         // [COOP-INV-RETIRED-ORDER.1]
-        let ordered: BTreeSet<&SceneId> = self.retired_order.iter().collect();
-        if ordered.len() != self.retired_order.len()
-            || !ordered.iter().copied().eq(self.retired.keys())
-        {
+        if !self.retired_order_is_exact() {
             return fail(Invariant::RetiredOrder, None);
         }
         // [COOP-INV-RETIRED-BOUND.1]

@@ -385,3 +385,41 @@ fn coop_api_status_1() {
         "no command applied: command 1 (scene 00000000-0000-0000-0000-000000000009): unknown scene"
     );
 }
+
+/// `State::relabel` renames identifiers without changing behaviour, and refuses collisions.
+#[test]
+fn relabel_renames_and_refuses_collisions() {
+    let mut state = with_scenes();
+    fires(
+        &mut state,
+        Input::Remove {
+            id: id(2),
+            module: AVOIDANCE,
+        },
+        Rule::OwnerRemove,
+    );
+    let swap = |n: SceneId| {
+        if n == id(1) {
+            id(2)
+        } else if n == id(2) {
+            id(1)
+        } else {
+            n
+        }
+    };
+    let swapped = state.relabel(swap).expect("a bijection");
+    assert_eq!(swapped.scene(id(2)).map(Scene::module), Some(LANE_CHANGE));
+    assert_eq!(swapped.retirement(id(1)).map(|r| r.module), Some(AVOIDANCE));
+    assert_eq!(swapped.check_invariants(), Ok(()));
+    assert_eq!(swapped.relabel(swap), Some(state.clone()));
+    let mut a = state.clone();
+    let mut b = swapped.clone();
+    a.apply(&commands(&[(id(1), OperatorDecision::Activate)]))
+        .expect("applies");
+    b.apply(&commands(&[(id(2), OperatorDecision::Activate)]))
+        .expect("applies");
+    assert_eq!(b.relabel(swap), Some(a));
+    assert_eq!(state.relabel(|_| id(1)), None);
+    let ids: Vec<SceneId> = state.retirements().map(|(id, _)| id).collect();
+    assert_eq!(ids, [id(2)]);
+}

@@ -1,1 +1,23 @@
-//! Models (to come).
+//! Exhaustive stateright models of the cooperation core.
+//!
+//! Every model's `next_state` calls the library's [`cooperation::State::apply`], the function the
+//! library ships; no rule, guard or table of the specification is restated here. The
+//! properties are stated from the specification (the merged-decision table is read from
+//! `spec/cooperation.md` itself) and named by its tags.
+
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
+
+pub mod fault;
+pub mod run;
+pub mod sequential;
+pub mod spec;
+pub mod trace;
+
+pub use fault::Fault;
+pub use sequential::{Bounds, SequentialModel, Step};
+pub use trace::Trace;

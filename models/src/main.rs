@@ -1,0 +1,235 @@
+//! `cooperation-models`: the exhaustive model check of the cooperation core.
+//!
+//! ```text
+//! cooperation-models check   [--modules M] [--scenes N] [--live L] [--retired R]
+//!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
+//!                            [--fault NAME] [--out DIR]
+//! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
+//! cooperation-models replay  FILE
+//! ```
+
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use cooperation_models::run::{check, Settings, Strategy};
+use cooperation_models::{Bounds, Fault, SequentialModel, Trace};
+use stateright::Model;
+
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+const USAGE: &str = "usage:
+  cooperation-models check   [--modules M] [--scenes N] [--live L] [--retired R]
+                             [--threads T] [--strategy dfs|bfs] [--no-symmetry]
+                             [--fault NAME] [--out DIR]
+  cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
+  cooperation-models replay  FILE
+
+defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired one remembered,
+2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
+apply, that is when fewer retired identifiers are remembered than there are identifiers),
+counterexamples saved under target/counterexamples. Faults (sensitivity tests): ";
+
+struct Options {
+    bounds: Bounds,
+    settings: Settings,
+    fault: Option<Fault>,
+    out: PathBuf,
+    address: String,
+}
+
+fn parse(args: &[String]) -> Result<Options, String> {
+    let mut bounds = Bounds::new(2, 3);
+    let (mut live, mut retired) = (None, None);
+    let mut settings = Settings {
+        threads: 2,
+        strategy: Strategy::Dfs,
+        symmetry: true,
+    };
+    let mut strategy = None;
+    let mut fault = None;
+    let mut out = PathBuf::from("target/counterexamples");
+    let mut address = "127.0.0.1:3000".to_owned();
+    let mut rest = args.iter();
+    while let Some(flag) = rest.next() {
+        if flag == "--no-symmetry" {
+            settings.symmetry = false;
+            continue;
+        }
+        let value = rest.next().ok_or_else(|| format!("{flag} needs a value"))?;
+        let number = || {
+            value
+                .parse::<usize>()
+                .map_err(|_| format!("{flag} takes a number, not {value:?}"))
+        };
+        match flag.as_str() {
+            "--modules" => bounds.modules = number()?,
+            "--scenes" => bounds.scenes = number()?,
+            "--live" => live = Some(number()?),
+            "--retired" => retired = Some(number()?),
+            "--threads" => settings.threads = number()?,
+            "--strategy" => {
+                strategy = Some(match value.as_str() {
+                    "dfs" => Strategy::Dfs,
+                    "bfs" => Strategy::Bfs,
+                    other => return Err(format!("--strategy is dfs or bfs, not {other:?}")),
+                });
+            }
+            "--fault" => {
+                let found = Fault::ALL.into_iter().find(|f| format!("{f:?}") == *value);
+                fault = Some(found.ok_or_else(|| format!("no fault is named {value:?}"))?);
+            }
+            "--out" => out = PathBuf::from(value),
+            "--address" => address.clone_from(value),
+            other => return Err(format!("unknown option {other:?}")),
+        }
+    }
+    let defaults = Bounds::new(bounds.modules, bounds.scenes);
+    bounds.live = live.unwrap_or(defaults.live);
+    bounds.retired = retired.unwrap_or(defaults.retired);
+    if settings.symmetry && bounds.retired < bounds.scenes {
+        // Forgetting identifiers makes the retirement order matter, and it is not symmetric.
+        settings.symmetry = false;
+    }
+    // Symmetry needs depth first (breadth first ignores it); without symmetry, breadth first
+    // keeps memory flat where depth-first paths grow long.
+    settings.strategy = strategy.unwrap_or(if settings.symmetry {
+        Strategy::Dfs
+    } else {
+        Strategy::Bfs
+    });
+    if settings.strategy == Strategy::Bfs {
+        settings.symmetry = false;
+    }
+    Ok(Options {
+        bounds,
+        settings,
+        fault,
+        out,
+        address,
+    })
+}
+
+fn model(options: &Options) -> Result<SequentialModel, String> {
+    let model = SequentialModel::new(options.bounds).map_err(|e| e.to_string())?;
+    Ok(match options.fault {
+        Some(fault) => model.with_fault(fault),
+        None => model,
+    })
+}
+
+fn run_check(options: &Options) -> Result<bool, String> {
+    let model = model(options)?;
+    let Bounds {
+        modules,
+        scenes,
+        live,
+        retired,
+    } = options.bounds;
+    println!(
+        "sequential model: {modules} modules, {scenes} scene identifiers, at most {live} live, \
+         {retired} retired remembered; {} inputs in every state",
+        model.alphabet().len()
+    );
+    let Settings {
+        threads,
+        strategy,
+        symmetry,
+    } = options.settings;
+    println!(
+        "checking to completion: {strategy:?}, {threads} thread(s), symmetry {}{}",
+        if symmetry { "on" } else { "off" },
+        options
+            .fault
+            .map_or(String::new(), |f| format!(", injected fault {f:?}"))
+    );
+    let report = check(&model, options.settings, &mut std::io::stderr());
+    println!(
+        "\n{} unique states, {} generated, depth {}, {:.1} s\n",
+        report.unique,
+        report.generated,
+        report.depth,
+        report.elapsed.as_secs_f64()
+    );
+    print!("{}", report.table());
+    let held = report.outcomes.iter().filter(|o| o.holds).count();
+    println!("\n{held} of {} properties satisfied", report.outcomes.len());
+    for outcome in &report.outcomes {
+        let Some(trace) = &outcome.counterexample else {
+            continue;
+        };
+        println!("\nshortest counterexample, {} steps:", trace.inputs.len());
+        print!("{}", trace.render().map_err(|e| e.to_string())?);
+        let file = save(&options.out, trace)?;
+        println!("saved as {}", file.display());
+    }
+    Ok(report.passed())
+}
+
+fn save(dir: &std::path::Path, trace: &Trace) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let name: String = trace
+        .property
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    let file = dir.join(format!("{}.json", name.trim_matches('-')));
+    let text = serde_json::to_string_pretty(trace).map_err(|e| e.to_string())?;
+    std::fs::write(&file, text + "\n").map_err(|e| format!("{}: {e}", file.display()))?;
+    Ok(file)
+}
+
+fn replay(file: &str) -> Result<bool, String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{file}: {e}"))?;
+    let trace: Trace = serde_json::from_str(&text).map_err(|e| format!("{file}: {e}"))?;
+    print!("{}", trace.render().map_err(|e| e.to_string())?);
+    let holds = trace.holds_at_end().map_err(|e| e.to_string())?;
+    println!(
+        "\nat the end, the property {}",
+        if holds { "holds" } else { "is violated" }
+    );
+    Ok(holds)
+}
+
+fn explore(options: &Options) -> Result<bool, String> {
+    let model = model(options)?;
+    println!(
+        "serving stateright's Explorer on http://{} (Ctrl-C to stop)",
+        options.address
+    );
+    let _ = std::io::stdout().flush();
+    model.checker().serve(options.address.as_str());
+    Ok(true)
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let faults: Vec<String> = Fault::ALL.iter().map(|f| format!("{f:?}")).collect();
+    let usage = format!("{USAGE}{}", faults.join(", "));
+    let result = match args.split_first() {
+        Some((command, rest)) if command == "check" => parse(rest).and_then(|o| run_check(&o)),
+        Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
+        Some((command, [file])) if command == "replay" => replay(file),
+        Some((command, _)) if command == "help" || command == "--help" => {
+            println!("{usage}");
+            Ok(true)
+        }
+        _ => Err(usage),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(message) => {
+            eprintln!("{message}");
+            ExitCode::from(2)
+        }
+    }
+}

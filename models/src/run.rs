@@ -1,0 +1,207 @@
+//! Running a check: the checker's configuration, live progress, the property table, and the
+//! shortest counterexample of each violated property.
+
+use std::io::Write;
+use std::time::{Duration, Instant};
+
+use stateright::report::{ReportData, ReportDiscovery, Reporter};
+use stateright::{Checker, DiscoveryClassification, Expectation, HasDiscoveries, Model};
+
+use crate::sequential::{Action, SequentialModel};
+use crate::trace::Trace;
+
+/// How to search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Strategy {
+    /// Depth first; applies symmetry reduction when asked.
+    Dfs,
+    /// Breadth first; ignores symmetry (stateright's BFS does).
+    Bfs,
+}
+
+/// A check's settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Settings {
+    /// Worker threads.
+    pub threads: usize,
+    /// Search order.
+    pub strategy: Strategy,
+    /// Whether to reduce by renaming identifiers (DFS only).
+    pub symmetry: bool,
+}
+
+/// What one property came to.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Outcome {
+    /// The property's name.
+    pub name: &'static str,
+    /// `always` or `sometimes`.
+    pub expectation: Expectation,
+    /// Whether the property is satisfied: an `always` without counterexample, a `sometimes`
+    /// with an example.
+    pub holds: bool,
+    /// The shortest counterexample of a violated `always` property.
+    pub counterexample: Option<Trace>,
+}
+
+/// The result of a complete check.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Distinct states (after symmetry reduction, when on).
+    pub unique: usize,
+    /// States generated, duplicates included.
+    pub generated: usize,
+    /// The deepest path.
+    pub depth: usize,
+    /// Wall time.
+    pub elapsed: Duration,
+    /// Whether the search ran to completion.
+    pub complete: bool,
+    /// Every property's outcome, in the model's order.
+    pub outcomes: Vec<Outcome>,
+}
+
+impl Report {
+    /// Whether every property is satisfied and the search completed.
+    #[must_use]
+    pub fn passed(&self) -> bool {
+        self.complete && self.outcomes.iter().all(|o| o.holds)
+    }
+
+    /// The property table, one line per property.
+    #[must_use]
+    pub fn table(&self) -> String {
+        let mut out = String::from("| result | kind | property |\n|---|---|---|\n");
+        for outcome in &self.outcomes {
+            let (kind, result) = match (&outcome.expectation, outcome.holds) {
+                (Expectation::Sometimes, true) => ("sometimes", "reached"),
+                (Expectation::Sometimes, false) => ("sometimes", "UNREACHED"),
+                (_, true) => ("always", "holds"),
+                (_, false) => ("always", "VIOLATED"),
+            };
+            out += &format!("| {result} | {kind} | {} |\n", outcome.name);
+        }
+        out
+    }
+}
+
+/// Prints progress to a writer once a second: states, unique states, depth and rate.
+pub struct Progress<W: Write> {
+    writer: W,
+    last: Option<(Duration, usize)>,
+}
+
+impl<W: Write> Progress<W> {
+    /// Progress lines go to `writer`.
+    pub const fn new(writer: W) -> Self {
+        Self { writer, last: None }
+    }
+}
+
+impl<W: Write> Reporter<SequentialModel> for Progress<W> {
+    fn report_checking(&mut self, data: ReportData) {
+        let (then, before) = self.last.unwrap_or_default();
+        let seconds = (data.duration - then).as_secs_f64().max(1e-9);
+        let rate = (data.unique_states.saturating_sub(before)) as f64 / seconds;
+        let status = if data.done { "done" } else { "checking" };
+        let _ = writeln!(
+            self.writer,
+            "{status}: states={}, unique={}, depth={}, {:.0} unique/s, {:.1} s",
+            data.total_states,
+            data.unique_states,
+            data.max_depth,
+            rate,
+            data.duration.as_secs_f64()
+        );
+        self.last = Some((data.duration, data.unique_states));
+    }
+
+    fn report_discoveries(
+        &mut self,
+        _: &SequentialModel,
+        _: std::collections::BTreeMap<&'static str, ReportDiscovery<SequentialModel>>,
+    ) {
+    }
+}
+
+/// Checks `model` to completion, reporting progress to `progress`, then finds the shortest
+/// counterexample of each violated property by a breadth-first search for it alone.
+pub fn check(
+    model: &SequentialModel,
+    settings: Settings,
+    progress: &mut (impl Write + Send),
+) -> Report {
+    let start = Instant::now();
+    let builder = model.clone().checker().threads(settings.threads.max(1));
+    let builder = if settings.symmetry {
+        builder.symmetry()
+    } else {
+        builder
+    };
+    let mut reporter = Progress::new(&mut *progress);
+    let checker = match settings.strategy {
+        Strategy::Dfs => Box::new(builder.spawn_dfs().join_and_report(&mut reporter))
+            as Box<dyn Checker<SequentialModel>>,
+        Strategy::Bfs => Box::new(builder.spawn_bfs().join_and_report(&mut reporter)),
+    };
+    let discoveries = checker.discoveries();
+    let outcomes = model
+        .properties()
+        .into_iter()
+        .map(|property| {
+            let found = discoveries.contains_key(property.name);
+            let holds = match property.expectation {
+                Expectation::Sometimes => found,
+                Expectation::Always | Expectation::Eventually => !found,
+            };
+            let counterexample = (!holds
+                && !matches!(property.expectation, Expectation::Sometimes))
+            .then(|| shortest(model, property.name))
+            .flatten();
+            Outcome {
+                name: property.name,
+                expectation: property.expectation,
+                holds,
+                counterexample,
+            }
+        })
+        .collect();
+    Report {
+        unique: checker.unique_state_count(),
+        generated: checker.state_count(),
+        depth: checker.max_depth(),
+        elapsed: start.elapsed(),
+        complete: checker.is_done(),
+        outcomes,
+    }
+}
+
+/// The shortest path breaking the named `always` property: a one-thread breadth-first search
+/// for that property alone, stopping at the first counterexample.
+#[must_use]
+pub fn shortest(model: &SequentialModel, property: &'static str) -> Option<Trace> {
+    let focused = model.clone().focus(property);
+    let checker = focused
+        .checker()
+        .finish_when(HasDiscoveries::AnyFailures)
+        .spawn_bfs()
+        .join();
+    let path = checker.discovery(property)?;
+    if !matches!(
+        checker.discovery_classification(property),
+        DiscoveryClassification::Counterexample
+    ) {
+        return None;
+    }
+    let actions: Vec<Action> = path.into_actions();
+    let inputs = actions
+        .iter()
+        .filter_map(|a| model.alphabet().get(*a).cloned())
+        .collect();
+    Some(Trace {
+        bounds: model.bounds(),
+        fault: model.fault(),
+        property: property.to_owned(),
+        inputs,
+    })
+}
