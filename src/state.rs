@@ -180,6 +180,34 @@ impl Transition {
     }
 }
 
+/// What an accepted input will write, as decided by `State::decide`.
+enum Plan<'a> {
+    /// `[COOP-REG-NEW.1]`.
+    Register { id: SceneId, scene: Scene },
+    /// `[COOP-OWN-UPDATE.1]`.
+    Update {
+        id: SceneId,
+        phase: Phase,
+        decision: Decision,
+        geometry: Geometry,
+    },
+    /// `[COOP-OWN-FINISH.1]` or `[COOP-OWN-REMOVE.1]`.
+    Retire {
+        id: SceneId,
+        reason: RetireReason,
+        rule: Rule,
+    },
+    /// `[COOP-TIME-AGE.1]` or `[COOP-TIME-EXPIRE.1]`: age everything, retire `expired`.
+    Tick {
+        elapsed_ms: u64,
+        expired: Vec<SceneId>,
+    },
+    /// `[COOP-CMD-APPLY.1]`.
+    Commands(&'a [Command]),
+    /// `[COOP-POL-SET.1]`.
+    Policies(&'a [PolicySetting]),
+}
+
 /// The whole cooperation state: policies, live scenes and retired identifiers.
 ///
 /// Changed only by [`State::apply`]. `Clone + Eq + Hash`, with ordered containers only, so that
@@ -227,55 +255,141 @@ impl State {
     /// Applies one input: the only way the state changes.
     ///
     /// Deterministic: the result depends on `self` and `input` only; nothing else is read and
-    /// nothing but `self` is written. On `Err`, `self` is exactly as it was.
+    /// nothing but `self` is written. It decides first, reading `self` only, and writes only if
+    /// the input is accepted: on `Err`, `self` is exactly as it was.
     ///
     /// # Errors
     /// A [`Rejection`] naming the rule that refused the input.
     pub fn apply(&mut self, input: &Input) -> Result<Transition, Rejection> {
-        let result = match input {
+        let plan = self.decide(input)?;
+        let transition = self.commit(plan);
+        debug_assert_eq!(self.check_invariants(), Ok(()), "after {input:?}");
+        Ok(transition)
+    }
+
+    /// The by-value form of [`apply`](Self::apply): the next state, or the rejection. The same
+    /// decision and the same writes; a rejection costs no copy of the state.
+    ///
+    /// # Errors
+    /// As [`apply`](Self::apply).
+    pub fn after(&self, input: &Input) -> Result<(Self, Transition), Rejection> {
+        let plan = self.decide(input)?;
+        let mut next = self.clone();
+        let transition = next.commit(plan);
+        debug_assert_eq!(next.check_invariants(), Ok(()), "after {input:?}");
+        Ok((next, transition))
+    }
+
+    /// The transition function's decision: which rule the input fires, and what it will
+    /// write, or the rejection. Every guard of spec §5 is here, each under its rule's tag.
+    fn decide<'a>(&self, input: &'a Input) -> Result<Plan<'a>, Rejection> {
+        match input {
             Input::Register {
                 id,
                 module,
                 decision,
                 geometry,
-            } => self.register(*id, *module, *decision, *geometry),
+            } => self.decide_register(*id, *module, *decision, *geometry),
             Input::Update {
                 id,
                 module,
                 phase,
                 decision,
                 geometry,
-            } => self.update(*id, *module, *phase, *decision, *geometry),
-            Input::Remove { id, module } => self.remove(*id, *module),
-            Input::SetCommands { commands } => self.apply_commands(commands),
-            Input::SetPolicies { policies } => self.apply_policies(policies),
-            Input::Tick { elapsed_ms } => Ok(self.tick(*elapsed_ms)),
-        };
-        debug_assert_eq!(self.check_invariants(), Ok(()), "after {input:?}");
-        result
+            } => self.decide_update(*id, *module, *phase, *decision, *geometry),
+            Input::Remove { id, module } => {
+                self.owned_scene(*id, *module)?;
+                // [COOP-OWN-REMOVE.1]
+                Ok(Plan::Retire {
+                    id: *id,
+                    reason: RetireReason::Removed,
+                    rule: Rule::OwnerRemove,
+                })
+            }
+            Input::SetCommands { commands } => self.decide_commands(commands),
+            Input::SetPolicies { policies } => self.decide_policies(policies),
+            Input::Tick { elapsed_ms } => Ok(self.decide_tick(*elapsed_ms)),
+        }
     }
 
-    /// The by-value form of [`apply`](Self::apply): the next state, or the rejection.
-    ///
-    /// # Errors
-    /// As [`apply`](Self::apply).
-    pub fn after(&self, input: &Input) -> Result<(Self, Transition), Rejection> {
-        let mut next = self.clone();
-        let transition = next.apply(input)?;
-        Ok((next, transition))
+    /// Carries out a decision. No guard here: every choice was made by `decide`.
+    fn commit(&mut self, plan: Plan<'_>) -> Transition {
+        match plan {
+            Plan::Register { id, scene } => {
+                self.scenes.insert(id, scene);
+                Transition::by(Rule::RegisterNew)
+            }
+            Plan::Update {
+                id,
+                phase,
+                decision,
+                geometry,
+            } => {
+                if let Some(scene) = self.scenes.get_mut(&id) {
+                    scene.phase = phase;
+                    scene.module_decision = decision;
+                    scene.geometry = geometry;
+                    scene.age_ms = 0;
+                }
+                Transition::by(Rule::OwnerUpdate)
+            }
+            Plan::Retire { id, reason, rule } => {
+                self.retire(id, reason);
+                Transition {
+                    rule,
+                    retired: vec![id],
+                }
+            }
+            Plan::Tick {
+                elapsed_ms,
+                expired,
+            } => {
+                for scene in self.scenes.values_mut() {
+                    scene.age_ms = scene.age_ms.saturating_add(elapsed_ms);
+                }
+                for id in &expired {
+                    self.retire(*id, RetireReason::Expired);
+                }
+                let rule = if expired.is_empty() {
+                    Rule::TimeAge
+                } else {
+                    Rule::TimeExpire
+                };
+                Transition {
+                    rule,
+                    retired: expired,
+                }
+            }
+            Plan::Commands(commands) => {
+                for command in commands {
+                    if let Some(scene) = self.scenes.get_mut(&command.id) {
+                        scene.operator_decision = command.decision;
+                    }
+                }
+                Transition::by(Rule::CommandApply)
+            }
+            Plan::Policies(settings) => {
+                for setting in settings {
+                    if let Some(policy) = self.policies.get_mut(&setting.module) {
+                        *policy = setting.policy;
+                    }
+                }
+                Transition::by(Rule::PolicySet)
+            }
+        }
     }
 
     // ---------------------------------------------------------------------------------------
     // Scene owners
     // ---------------------------------------------------------------------------------------
 
-    fn register(
-        &mut self,
+    fn decide_register(
+        &self,
         id: SceneId,
         module: Module,
         decision: Decision,
         geometry: Geometry,
-    ) -> Result<Transition, Rejection> {
+    ) -> Result<Plan<'static>, Rejection> {
         // [COOP-REG-RETIRED.1]
         if let Some(retirement) = self.retired.get(&id) {
             return Err(Rejection::Revival {
@@ -314,18 +428,17 @@ impl State {
             age_ms: 0,
             geometry,
         };
-        self.scenes.insert(id, scene);
-        Ok(Transition::by(Rule::RegisterNew))
+        Ok(Plan::Register { id, scene })
     }
 
-    fn update(
-        &mut self,
+    fn decide_update(
+        &self,
         id: SceneId,
         module: Module,
         phase: Phase,
         decision: Decision,
         geometry: Geometry,
-    ) -> Result<Transition, Rejection> {
+    ) -> Result<Plan<'static>, Rejection> {
         let scene = self.owned_scene(id, module)?;
         // [COOP-OWN-KIND.1]
         if scene.geometry.kind() != geometry.kind() {
@@ -343,35 +456,25 @@ impl State {
                 to: phase,
             });
         }
-        // [COOP-OWN-FINISH.1]
-        let finished = match phase {
-            Phase::Succeeded => Some(RetireReason::Succeeded),
-            Phase::Failed => Some(RetireReason::Failed),
-            Phase::WaitingForExecution | Phase::Running | Phase::Aborting => None,
-        };
-        if let Some(reason) = finished {
-            self.retire(id, reason);
-            return Ok(Transition {
+        Ok(match phase {
+            // [COOP-OWN-FINISH.1]
+            Phase::Succeeded => Plan::Retire {
+                id,
+                reason: RetireReason::Succeeded,
                 rule: Rule::OwnerFinish,
-                retired: vec![id],
-            });
-        }
-        // [COOP-OWN-UPDATE.1]
-        let scene = self.owned_scene_mut(id)?;
-        scene.phase = phase;
-        scene.module_decision = decision;
-        scene.geometry = geometry;
-        scene.age_ms = 0;
-        Ok(Transition::by(Rule::OwnerUpdate))
-    }
-
-    fn remove(&mut self, id: SceneId, module: Module) -> Result<Transition, Rejection> {
-        self.owned_scene(id, module)?;
-        // [COOP-OWN-REMOVE.1]
-        self.retire(id, RetireReason::Removed);
-        Ok(Transition {
-            rule: Rule::OwnerRemove,
-            retired: vec![id],
+            },
+            Phase::Failed => Plan::Retire {
+                id,
+                reason: RetireReason::Failed,
+                rule: Rule::OwnerFinish,
+            },
+            // [COOP-OWN-UPDATE.1]
+            Phase::WaitingForExecution | Phase::Running | Phase::Aborting => Plan::Update {
+                id,
+                phase,
+                decision,
+                geometry,
+            },
         })
     }
 
@@ -385,29 +488,15 @@ impl State {
                 named: module,
             }),
             Some(scene) => Ok(scene),
-            None => Err(self.absent(id)),
-        }
-    }
-
-    fn owned_scene_mut(&mut self, id: SceneId) -> Result<&mut Scene, Rejection> {
-        if !self.scenes.contains_key(&id) {
-            return Err(self.absent(id));
-        }
-        self.scenes
-            .get_mut(&id)
-            .ok_or(Rejection::UnknownScene { id })
-    }
-
-    /// The rejection for an owner input naming an identifier that is not live.
-    fn absent(&self, id: SceneId) -> Rejection {
-        match self.retired.get(&id) {
-            // [COOP-OWN-RETIRED.1]
-            Some(retirement) => Rejection::RetiredScene {
-                id,
-                retirement: *retirement,
-            },
-            // [COOP-OWN-UNKNOWN.1]
-            None => Rejection::UnknownScene { id },
+            None => Err(match self.retired.get(&id) {
+                // [COOP-OWN-RETIRED.1]
+                Some(retirement) => Rejection::RetiredScene {
+                    id,
+                    retirement: *retirement,
+                },
+                // [COOP-OWN-UNKNOWN.1]
+                None => Rejection::UnknownScene { id },
+            }),
         }
     }
 
@@ -438,26 +527,18 @@ impl State {
     // Time
     // ---------------------------------------------------------------------------------------
 
-    fn tick(&mut self, elapsed_ms: u64) -> Transition {
+    fn decide_tick(&self, elapsed_ms: u64) -> Plan<'static> {
         let ttl_ms = self.limits.ttl_ms;
-        let mut expired = Vec::new();
-        for (id, scene) in &mut self.scenes {
-            scene.age_ms = scene.age_ms.saturating_add(elapsed_ms);
-            if scene.age_ms > ttl_ms {
-                expired.push(*id);
-            }
-        }
-        // [COOP-TIME-AGE.1]
-        if expired.is_empty() {
-            return Transition::by(Rule::TimeAge);
-        }
-        // [COOP-TIME-EXPIRE.1]
-        for id in &expired {
-            self.retire(*id, RetireReason::Expired);
-        }
-        Transition {
-            rule: Rule::TimeExpire,
-            retired: expired,
+        let expired: Vec<SceneId> = self
+            .scenes
+            .iter()
+            .filter(|(_, scene)| scene.age_ms.saturating_add(elapsed_ms) > ttl_ms)
+            .map(|(id, _)| *id)
+            .collect();
+        // [COOP-TIME-AGE.1] when nothing expires; [COOP-TIME-EXPIRE.1] otherwise.
+        Plan::Tick {
+            elapsed_ms,
+            expired,
         }
     }
 
@@ -465,7 +546,7 @@ impl State {
     // Operators
     // ---------------------------------------------------------------------------------------
 
-    fn apply_commands(&mut self, commands: &[Command]) -> Result<Transition, Rejection> {
+    fn decide_commands<'a>(&self, commands: &'a [Command]) -> Result<Plan<'a>, Rejection> {
         self.check_batch_len(commands.len())?;
         let failures = self.command_failures(commands);
         if let Some(&(index, failure)) = failures.first() {
@@ -489,12 +570,7 @@ impl State {
             });
         }
         // [COOP-CMD-APPLY.1]
-        for command in commands {
-            if let Some(scene) = self.scenes.get_mut(&command.id) {
-                scene.operator_decision = command.decision;
-            }
-        }
-        Ok(Transition::by(Rule::CommandApply))
+        Ok(Plan::Commands(commands))
     }
 
     /// Every command that cannot apply, with its position, in batch order.
@@ -523,7 +599,7 @@ impl State {
         failures
     }
 
-    fn apply_policies(&mut self, settings: &[PolicySetting]) -> Result<Transition, Rejection> {
+    fn decide_policies<'a>(&self, settings: &'a [PolicySetting]) -> Result<Plan<'a>, Rejection> {
         self.check_batch_len(settings.len())?;
         let mut seen = BTreeSet::new();
         for (index, setting) in settings.iter().enumerate() {
@@ -543,12 +619,7 @@ impl State {
             }
         }
         // [COOP-POL-SET.1]
-        for setting in settings {
-            if let Some(policy) = self.policies.get_mut(&setting.module) {
-                *policy = setting.policy;
-            }
-        }
-        Ok(Transition::by(Rule::PolicySet))
+        Ok(Plan::Policies(settings))
     }
 
     fn check_batch_len(&self, len: usize) -> Result<(), Rejection> {
@@ -561,7 +632,6 @@ impl State {
         }
         Ok(())
     }
-
     // ---------------------------------------------------------------------------------------
     // Queries
     // ---------------------------------------------------------------------------------------

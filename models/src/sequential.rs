@@ -8,7 +8,7 @@
 //! property is violated, so in a correct run the flags add no states.
 
 use std::hash::{Hash, Hasher};
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use cooperation::{
     Behavior, Command, Config, Decision, Geometry, Input, Limits, Module, OperatorDecision, Phase,
@@ -93,13 +93,14 @@ pub struct SequentialModel {
 
 /// Each model state: the core's state plus history variables.
 ///
-/// Hashed (and so fingerprinted by the checker) field by field, except that when the retired
-/// capacity covers every identifier (`order_matters` is false) the order in which identifiers
-/// retired is left out: no identifier is ever forgotten then, so the order is unobservable.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+/// Fingerprinted by the core's content, the rule, the history and `stalled`, except that when
+/// the retired capacity covers every identifier (`order_matters` is false) the order in which
+/// identifiers retired is left out: no identifier is ever forgotten then, so the order is
+/// unobservable.
+#[derive(Clone, serde::Serialize)]
 pub struct Step {
     /// The library's state.
-    pub core: State,
+    pub core: Arc<State>,
     /// The rule the last input fired or was rejected by; `None` initially.
     pub last: Option<Rule>,
     /// History the transition properties need.
@@ -108,23 +109,98 @@ pub struct Step {
     pub stalled: bool,
     /// Whether the retirement order can matter (the retired set can fill up).
     pub order_matters: bool,
+    /// Values derived from `core` and `ghost`, computed once and shared by every step with the
+    /// same core and history (a stalled step shares its predecessor's).
+    #[serde(skip)]
+    derived: Arc<Derived>,
 }
+
+/// What is derived from a step's core and history: the core's fingerprint contribution, and
+/// (when symmetry reduction asks for it) the canonical renaming.
+struct Derived {
+    core_hash: u64,
+    /// The canonical form, or `None` when the step is canonical already (a `Some(self)` would
+    /// be a reference cycle).
+    canonical: OnceLock<Option<Step>>,
+}
+
+impl Step {
+    fn new(
+        core: Arc<State>,
+        last: Option<Rule>,
+        ghost: Ghost,
+        stalled: bool,
+        order_matters: bool,
+    ) -> Self {
+        let derived = Arc::new(Derived {
+            core_hash: core_hash(&core, order_matters),
+            canonical: OnceLock::new(),
+        });
+        Self {
+            core,
+            last,
+            ghost,
+            stalled,
+            order_matters,
+            derived,
+        }
+    }
+
+    /// The step for an input that changed nothing: same core and history, shared derivations.
+    fn stalled_after(from: &Self, rule: Rule) -> Self {
+        Self {
+            last: Some(rule),
+            stalled: true,
+            ..from.clone()
+        }
+    }
+}
+
+/// The core's content as the fingerprint sees it (see [`Step`]).
+fn core_hash(core: &State, order_matters: bool) -> u64 {
+    let mut state = std::hash::DefaultHasher::new();
+    core.limits().hash(&mut state);
+    core.policies().for_each(|setting| setting.hash(&mut state));
+    core.scene_count().hash(&mut state);
+    core.scenes().for_each(|scene| scene.hash(&mut state));
+    if order_matters {
+        core.retired().for_each(|retired| retired.hash(&mut state));
+    } else {
+        core.retirements()
+            .for_each(|retired| retired.hash(&mut state));
+    }
+    state.finish()
+}
+
+impl PartialEq for Step {
+    fn eq(&self, other: &Self) -> bool {
+        self.core == other.core
+            && self.last == other.last
+            && self.ghost == other.ghost
+            && self.stalled == other.stalled
+            && self.order_matters == other.order_matters
+    }
+}
+
+impl Eq for Step {}
 
 impl Hash for Step {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        let core = &self.core;
-        core.limits().hash(state);
-        core.policies().for_each(|setting| setting.hash(state));
-        core.scene_count().hash(state);
-        core.scenes().for_each(|scene| scene.hash(state));
-        if self.order_matters {
-            core.retired().for_each(|retired| retired.hash(state));
-        } else {
-            core.retirements().for_each(|retired| retired.hash(state));
-        }
+        self.derived.core_hash.hash(state);
         self.last.hash(state);
         self.ghost.hash(state);
         self.stalled.hash(state);
+    }
+}
+
+impl core::fmt::Debug for Step {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Step")
+            .field("core", &self.core)
+            .field("last", &self.last)
+            .field("ghost", &self.ghost)
+            .field("stalled", &self.stalled)
+            .finish_non_exhaustive()
     }
 }
 
@@ -133,6 +209,19 @@ impl Representative for Step {
     /// states equal up to renaming share one representative. The sort key is each identifier's
     /// whole signature, so the representative is canonical.
     fn representative(&self) -> Self {
+        match self.derived.canonical.get_or_init(|| self.canonical()) {
+            Some(canonical) => Self {
+                last: self.last,
+                stalled: self.stalled,
+                ..canonical.clone()
+            },
+            None => self.clone(),
+        }
+    }
+}
+
+impl Step {
+    fn canonical(&self) -> Option<Self> {
         let core = &self.core;
         let position = |id: SceneId| {
             if self.order_matters {
@@ -161,14 +250,15 @@ impl Representative for Step {
                 *name = new;
             }
         }
+        if names.iter().enumerate().all(|(old, new)| old == *new) {
+            return None;
+        }
         let rename = |id: SceneId| {
             index(id)
                 .and_then(|i| names.get(i))
                 .map_or(id, |n| SceneId::from_u128(*n as u128 + 1))
         };
-        let Some(core) = self.core.relabel(rename) else {
-            return self.clone();
-        };
+        let core = self.core.relabel(rename)?;
         let mut ghost = Ghost {
             broken: self.ghost.broken,
             ..Ghost::default()
@@ -183,13 +273,13 @@ impl Representative for Step {
                 ghost.retired_ever |= 1 << new;
             }
         }
-        Self {
-            core,
-            last: self.last,
+        Some(Self::new(
+            Arc::new(core),
+            self.last,
             ghost,
-            stalled: self.stalled,
-            order_matters: self.order_matters,
-        }
+            self.stalled,
+            self.order_matters,
+        ))
     }
 }
 
@@ -359,14 +449,24 @@ impl SequentialModel {
         &self.alphabet
     }
 
-    /// The transition under check: `State::apply`, or the faulty wrapper around it.
-    ///
-    /// # Errors
-    /// The transition's rejection.
-    pub fn apply(&self, core: &mut State, input: &Input) -> Result<Transition, Rejection> {
+    /// The transition under check: the library's `State::after` (the by-value form of
+    /// `State::apply`), or the faulty wrapper around `apply`. Gives the next state (the very
+    /// same allocation when the library rejects the input) and the result.
+    pub fn transition(
+        &self,
+        core: &Arc<State>,
+        input: &Input,
+    ) -> (Arc<State>, Result<Transition, Rejection>) {
         match self.fault {
-            None => core.apply(input),
-            Some(fault) => fault.apply(core, input),
+            None => match core.after(input) {
+                Ok((next, transition)) => (Arc::new(next), Ok(transition)),
+                Err(rejection) => (Arc::clone(core), Err(rejection)),
+            },
+            Some(fault) => {
+                let mut next = State::clone(core);
+                let result = fault.apply(&mut next, input);
+                (Arc::new(next), result)
+            }
         }
     }
 
@@ -384,35 +484,34 @@ impl SequentialModel {
     /// # Errors
     /// If the configuration is refused (never, for valid bounds).
     pub fn initial(&self) -> Result<Step, cooperation::ConfigError> {
-        let core = State::new(self.config.clone())?;
+        let core = Arc::new(State::new(self.config.clone())?);
         let order_matters = self.bounds.retired < self.bounds.scenes;
-        Ok(Step {
+        Ok(Step::new(
             core,
-            last: None,
-            ghost: Ghost::default(),
-            stalled: false,
+            None,
+            Ghost::default(),
+            false,
             order_matters,
-        })
+        ))
     }
 
     /// The next step: apply `input`, then record what happened.
     #[must_use]
     pub fn step(&self, from: &Step, input: &Input) -> Step {
-        let mut core = from.core.clone();
-        let result = self.apply(&mut core, input);
+        let (core, result) = self.transition(&from.core, input);
         let rule = match &result {
             Ok(transition) => transition.rule,
             Err(rejection) => rejection.rule(),
         };
-        let ghost = observe(from, input, &result, &core);
-        let stalled = core == from.core && ghost == from.ghost;
-        Step {
-            core,
-            last: Some(rule),
-            ghost,
-            stalled,
-            order_matters: from.order_matters,
+        // The very same state back means nothing can have changed, history included.
+        if Arc::ptr_eq(&core, &from.core) {
+            return Step::stalled_after(from, rule);
         }
+        let ghost = observe(from, input, &result, &core);
+        if *core == *from.core && ghost == from.ghost {
+            return Step::stalled_after(from, rule);
+        }
+        Step::new(core, Some(rule), ghost, false, from.order_matters)
     }
 }
 
@@ -531,7 +630,7 @@ fn observe(
     result: &Result<Transition, Rejection>,
     core: &State,
 ) -> Ghost {
-    let old = &from.core;
+    let old: &State = &from.core;
     let mut ghost = from.ghost;
     let broken = &mut ghost.broken;
     let rule = result.as_ref().ok().map(|t| t.rule);
