@@ -8,7 +8,7 @@ use crate::{
 };
 
 /// A live scene as an operator sees it (AD API `CooperationStatus`, `[COOP-OUT-STATUS.1]`).
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CooperationStatus {
     /// The scene. AD API `uuid`.

@@ -39,11 +39,15 @@ pub enum Fault {
     OwnerClearsOperator,
     /// A retirement forgets the oldest retired identifier although the retired set has room.
     ForgetsEarly,
+    /// A command repeating the scene's operator decision flips it (activate and deactivate).
+    CommandToggles,
+    /// A command is applied to every cancellable scene, not only the one it names.
+    CommandBroadcast,
 }
 
 impl Fault {
     /// Every fault.
-    pub const ALL: [Self; 11] = [
+    pub const ALL: [Self; 13] = [
         Self::RequiredAsOptional,
         Self::OperatorDeactivateIgnored,
         Self::CommandReachesRetired,
@@ -55,6 +59,8 @@ impl Fault {
         Self::IdMovesModule,
         Self::OwnerClearsOperator,
         Self::ForgetsEarly,
+        Self::CommandToggles,
+        Self::CommandBroadcast,
     ];
 
     /// The library's transition, made wrong.
@@ -121,6 +127,40 @@ impl Fault {
                 next = edit(&next, |raw| push(raw, "/scenes", json!([id, scene])))?;
                 Some(next)
             }),
+            (Self::CommandToggles, Input::SetCommands { commands }, Ok(_)) => {
+                edit(core, |raw| {
+                    for command in commands {
+                        let before = before.scene(command.id).map(cooperation::Scene::operator_decision);
+                        let flipped = match command.decision {
+                            OperatorDecision::Activate => OperatorDecision::Deactivate,
+                            OperatorDecision::Deactivate => OperatorDecision::Activate,
+                            other => other,
+                        };
+                        if before == Some(command.decision) {
+                            let id = json!(command.id);
+                            for entry in scenes(raw) {
+                                if entry.get(0) == Some(&id) {
+                                    set(entry, "/1/operator_decision", json!(flipped));
+                                }
+                            }
+                        }
+                    }
+                })
+            }
+            (Self::CommandBroadcast, Input::SetCommands { commands }, Ok(_)) => {
+                let decision = commands.first().map(|c| c.decision);
+                edit(core, |raw| {
+                    for entry in scenes(raw) {
+                        let cancellable = matches!(
+                            entry.pointer("/1/phase").and_then(Value::as_str),
+                            Some("WaitingForExecution" | "Running")
+                        );
+                        if let (true, Some(decision)) = (cancellable, decision) {
+                            set(entry, "/1/operator_decision", json!(decision));
+                        }
+                    }
+                })
+            }
             (Self::ForgetsEarly, _, Ok(t)) if !t.retired.is_empty() => {
                 let remembered = core.retired().count();
                 let oldest = core.retired().map(|(id, _)| id).next();

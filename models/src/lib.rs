@@ -13,11 +13,13 @@
 )]
 
 pub mod fault;
+pub mod network;
 pub mod run;
 pub mod sequential;
 pub mod spec;
 pub mod trace;
 
 pub use fault::Fault;
+pub use network::{NetBounds, NetworkModel};
 pub use sequential::{Bounds, SequentialModel, Step};
 pub use trace::Trace;

@@ -1,7 +1,7 @@
 //! `cooperation-models`: the exhaustive model check of the cooperation core.
 //!
 //! ```text
-//! cooperation-models check   [--modules M] [--scenes N] [--live L] [--retired R]
+//! cooperation-models check   [--model sequential|network] [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
 //!                            [--fault NAME] [--out DIR]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
@@ -19,17 +19,18 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use cooperation_models::network::{COMMANDS_IN_FLIGHT, OPERATORS, STATUSES_IN_FLIGHT};
 use cooperation_models::run::{check, Settings, Strategy};
-use cooperation_models::{Bounds, Fault, SequentialModel, Trace};
+use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace};
 use stateright::Model;
 
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 const USAGE: &str = "usage:
-  cooperation-models check   [--modules M] [--scenes N] [--live L] [--retired R]
-                             [--threads T] [--strategy dfs|bfs] [--no-symmetry]
-                             [--fault NAME] [--out DIR]
+  cooperation-models check   [--model sequential|network] [--modules M] [--scenes N]
+                             [--live L] [--retired R] [--threads T] [--strategy dfs|bfs]
+                             [--no-symmetry] [--fault NAME] [--out DIR]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
 
@@ -38,7 +39,15 @@ defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired o
 apply, that is when fewer retired identifiers are remembered than there are identifiers),
 counterexamples saved under target/counterexamples. Faults (sensitivity tests): ";
 
+/// Which model to check.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Which {
+    Sequential,
+    Network,
+}
+
 struct Options {
+    which: Which,
     bounds: Bounds,
     settings: Settings,
     fault: Option<Fault>,
@@ -58,6 +67,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut fault = None;
     let mut out = PathBuf::from("target/counterexamples");
     let mut address = "127.0.0.1:3000".to_owned();
+    let mut which = Which::Sequential;
     let mut rest = args.iter();
     while let Some(flag) = rest.next() {
         if flag == "--no-symmetry" {
@@ -88,6 +98,15 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 fault = Some(found.ok_or_else(|| format!("no fault is named {value:?}"))?);
             }
             "--out" => out = PathBuf::from(value),
+            "--model" => {
+                which = match value.as_str() {
+                    "sequential" => Which::Sequential,
+                    "network" => Which::Network,
+                    other => {
+                        return Err(format!("--model is sequential or network, not {other:?}"))
+                    }
+                }
+            }
             "--address" => address.clone_from(value),
             other => return Err(format!("unknown option {other:?}")),
         }
@@ -109,7 +128,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
     if settings.strategy == Strategy::Bfs {
         settings.symmetry = false;
     }
+    if which == Which::Network && !args.iter().any(|a| a == "--scenes") {
+        bounds.scenes = 2;
+    }
     Ok(Options {
+        which,
         bounds,
         settings,
         fault,
@@ -127,6 +150,9 @@ fn model(options: &Options) -> Result<SequentialModel, String> {
 }
 
 fn run_check(options: &Options) -> Result<bool, String> {
+    if options.which == Which::Network {
+        return run_network(options);
+    }
     let model = model(options)?;
     let Bounds {
         modules,
@@ -152,6 +178,45 @@ fn run_check(options: &Options) -> Result<bool, String> {
             .map_or(String::new(), |f| format!(", injected fault {f:?}"))
     );
     let report = check(&model, options.settings, &mut std::io::stderr());
+    present(&report, &options.out)
+}
+
+fn run_network(options: &Options) -> Result<bool, String> {
+    let bounds = NetBounds {
+        scenes: options.bounds.scenes,
+    };
+    let model = NetworkModel::new(bounds).map_err(|e| e.to_string())?;
+    let model = match options.fault {
+        Some(fault) => model.with_fault(fault),
+        None => model,
+    };
+    println!(
+        "network model: the planner and {OPERATORS} operators, {} scene identifiers, at most \
+         {STATUSES_IN_FLIGHT} status message per operator and {COMMANDS_IN_FLIGHT} commands in flight, \
+         delivered in any order, duplicated or lost",
+        bounds.scenes
+    );
+    let settings = Settings {
+        strategy: Strategy::Bfs,
+        symmetry: false,
+        ..options.settings
+    };
+    println!(
+        "checking to completion: {:?}, {} thread(s), symmetry off{}",
+        settings.strategy,
+        settings.threads,
+        options
+            .fault
+            .map_or(String::new(), |f| format!(", injected fault {f:?}"))
+    );
+    let report = check(&model, settings, &mut std::io::stderr());
+    present(&report, &options.out)
+}
+
+fn present(
+    report: &cooperation_models::run::Report,
+    out: &std::path::Path,
+) -> Result<bool, String> {
     println!(
         "\n{} unique states, {} generated, depth {}, {:.1} s\n",
         report.unique,
@@ -166,9 +231,9 @@ fn run_check(options: &Options) -> Result<bool, String> {
         let Some(trace) = &outcome.counterexample else {
             continue;
         };
-        println!("\nshortest counterexample, {} steps:", trace.inputs.len());
+        println!("\nshortest counterexample, {} steps:", trace.len());
         print!("{}", trace.render().map_err(|e| e.to_string())?);
-        let file = save(&options.out, trace)?;
+        let file = save(out, trace)?;
         println!("saved as {}", file.display());
     }
     Ok(report.passed())
@@ -177,7 +242,7 @@ fn run_check(options: &Options) -> Result<bool, String> {
 fn save(dir: &std::path::Path, trace: &Trace) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let name: String = trace
-        .property
+        .property()
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
         .collect();

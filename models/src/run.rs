@@ -7,8 +7,62 @@ use std::time::{Duration, Instant};
 use stateright::report::{ReportData, ReportDiscovery, Reporter};
 use stateright::{Checker, DiscoveryClassification, Expectation, HasDiscoveries, Model};
 
-use crate::sequential::{Action, SequentialModel};
+use core::fmt::Debug;
+use core::hash::Hash;
+
+use stateright::{Property, Representative};
+
+use crate::sequential::SequentialModel;
 use crate::trace::Trace;
+
+/// A model this runner can check: it can narrow itself to one property (for the shortest
+/// counterexample) and turn a path of actions into a trace a person and a test can replay.
+pub trait Checkable: Model + Clone + Send + Sync + 'static
+where
+    Self::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
+    Self::Action: Debug + Clone + PartialEq + Send + Sync,
+{
+    /// The same model checking only the named property.
+    #[must_use]
+    fn focus(self, property: &'static str) -> Self;
+
+    /// The trace of these actions from the initial state, for the named property.
+    fn trace(&self, property: &'static str, actions: Vec<Self::Action>) -> Trace;
+}
+
+impl Checkable for crate::NetworkModel {
+    fn focus(self, property: &'static str) -> Self {
+        Self::focus(self, property)
+    }
+
+    fn trace(&self, property: &'static str, actions: Vec<crate::network::NetAction>) -> Trace {
+        Trace::Network {
+            bounds: self.bounds(),
+            fault: self.fault(),
+            property: property.to_owned(),
+            actions,
+        }
+    }
+}
+
+impl Checkable for SequentialModel {
+    fn focus(self, property: &'static str) -> Self {
+        Self::focus(self, property)
+    }
+
+    fn trace(&self, property: &'static str, actions: Vec<usize>) -> Trace {
+        let inputs = actions
+            .iter()
+            .filter_map(|a| self.alphabet().get(*a).cloned())
+            .collect();
+        Trace::Sequential {
+            bounds: self.bounds(),
+            fault: self.fault(),
+            property: property.to_owned(),
+            inputs,
+        }
+    }
+}
 
 /// How to search.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,7 +152,7 @@ impl<W: Write> Progress<W> {
     }
 }
 
-impl<W: Write> Reporter<SequentialModel> for Progress<W> {
+impl<W: Write, M: Model> Reporter<M> for Progress<W> {
     fn report_checking(&mut self, data: ReportData) {
         let (then, before) = self.last.unwrap_or_default();
         let seconds = (data.duration - then).as_secs_f64().max(1e-9);
@@ -118,19 +172,20 @@ impl<W: Write> Reporter<SequentialModel> for Progress<W> {
 
     fn report_discoveries(
         &mut self,
-        _: &SequentialModel,
-        _: std::collections::BTreeMap<&'static str, ReportDiscovery<SequentialModel>>,
+        _: &M,
+        _: std::collections::BTreeMap<&'static str, ReportDiscovery<M>>,
     ) {
     }
 }
 
 /// Checks `model` to completion, reporting progress to `progress`, then finds the shortest
 /// counterexample of each violated property by a breadth-first search for it alone.
-pub fn check(
-    model: &SequentialModel,
-    settings: Settings,
-    progress: &mut (impl Write + Send),
-) -> Report {
+pub fn check<M>(model: &M, settings: Settings, progress: &mut (impl Write + Send)) -> Report
+where
+    M: Checkable,
+    M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
+    M::Action: Debug + Clone + PartialEq + Send + Sync,
+{
     let start = Instant::now();
     let builder = model.clone().checker().threads(settings.threads.max(1));
     let builder = if settings.symmetry {
@@ -140,15 +195,16 @@ pub fn check(
     };
     let mut reporter = Progress::new(&mut *progress);
     let checker = match settings.strategy {
-        Strategy::Dfs => Box::new(builder.spawn_dfs().join_and_report(&mut reporter))
-            as Box<dyn Checker<SequentialModel>>,
+        Strategy::Dfs => {
+            Box::new(builder.spawn_dfs().join_and_report(&mut reporter)) as Box<dyn Checker<M>>
+        }
         Strategy::Bfs => Box::new(builder.spawn_bfs().join_and_report(&mut reporter)),
     };
     let discoveries = checker.discoveries();
     let outcomes = model
         .properties()
         .into_iter()
-        .map(|property| {
+        .map(|property: Property<M>| {
             let found = discoveries.contains_key(property.name);
             let holds = match property.expectation {
                 Expectation::Sometimes => found,
@@ -179,9 +235,15 @@ pub fn check(
 /// The shortest path breaking the named `always` property: a one-thread breadth-first search
 /// for that property alone, stopping at the first counterexample.
 #[must_use]
-pub fn shortest(model: &SequentialModel, property: &'static str) -> Option<Trace> {
-    let focused = model.clone().focus(property);
-    let checker = focused
+pub fn shortest<M>(model: &M, property: &'static str) -> Option<Trace>
+where
+    M: Checkable,
+    M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
+    M::Action: Debug + Clone + PartialEq + Send + Sync,
+{
+    let checker = model
+        .clone()
+        .focus(property)
         .checker()
         .finish_when(HasDiscoveries::AnyFailures)
         .spawn_bfs()
@@ -193,15 +255,5 @@ pub fn shortest(model: &SequentialModel, property: &'static str) -> Option<Trace
     ) {
         return None;
     }
-    let actions: Vec<Action> = path.into_actions();
-    let inputs = actions
-        .iter()
-        .filter_map(|a| model.alphabet().get(*a).cloned())
-        .collect();
-    Some(Trace {
-        bounds: model.bounds(),
-        fault: model.fault(),
-        property: property.to_owned(),
-        inputs,
-    })
+    Some(model.trace(property, path.into_actions()))
 }

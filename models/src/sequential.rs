@@ -495,6 +495,22 @@ impl SequentialModel {
         ))
     }
 
+    /// Every step of a path of inputs, the initial state first.
+    ///
+    /// # Errors
+    /// If the configuration is refused (never, for valid bounds).
+    pub fn replay(&self, inputs: &[Input]) -> Result<Vec<Step>, ModelError> {
+        let first = self
+            .initial()
+            .map_err(|e| ModelError::Bounds(e.to_string()))?;
+        let mut steps = vec![first];
+        for input in inputs {
+            let next = steps.last().map(|last| self.step(last, input));
+            steps.extend(next);
+        }
+        Ok(steps)
+    }
+
     /// The next step: apply `input`, then record what happened.
     #[must_use]
     pub fn step(&self, from: &Step, input: &Input) -> Step {

@@ -3,24 +3,40 @@
 
 use core::fmt::Write as _;
 
-use cooperation::{Input, Rule};
+use cooperation::{Input, Rule, SceneId, State};
 use serde::{Deserialize, Serialize};
 
-use crate::sequential::{Bounds, ModelError, SequentialModel, Step};
+use crate::network::{NetAction, NetBounds, NetworkModel};
+use crate::sequential::{Bounds, ModelError, SequentialModel};
 use crate::Fault;
 
-/// A path found by the checker: the model it is for, the property, and the inputs from the
-/// initial state. Replaying the inputs through the model reproduces it.
+/// A path found by the checker, for one model and one property: replaying its actions from the
+/// initial state reproduces it.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Trace {
-    /// The model's bounds.
-    pub bounds: Bounds,
-    /// The injected fault, if the run was a sensitivity test.
-    pub fault: Option<Fault>,
-    /// The property the trace breaks (or, for a `sometimes` property, reaches).
-    pub property: String,
-    /// The inputs, in order.
-    pub inputs: Vec<Input>,
+#[serde(tag = "model", rename_all = "lowercase")]
+pub enum Trace {
+    /// A path of the sequential model.
+    Sequential {
+        /// The model's bounds.
+        bounds: Bounds,
+        /// The injected fault, if the run was a sensitivity test.
+        fault: Option<Fault>,
+        /// The property the trace breaks (or, for a `sometimes` property, reaches).
+        property: String,
+        /// The inputs, in order.
+        inputs: Vec<Input>,
+    },
+    /// A path of the network model.
+    Network {
+        /// The model's bounds.
+        bounds: NetBounds,
+        /// The injected fault, if the run was a sensitivity test.
+        fault: Option<Fault>,
+        /// The property the trace breaks.
+        property: String,
+        /// The actions (owner inputs, messages sent, delivered, duplicated, lost), in order.
+        actions: Vec<NetAction>,
+    },
 }
 
 /// Why a trace could not be replayed.
@@ -44,33 +60,37 @@ impl core::fmt::Display for ReplayError {
 impl std::error::Error for ReplayError {}
 
 impl Trace {
-    /// The model the trace is for.
-    ///
-    /// # Errors
-    /// If the bounds are invalid.
-    pub fn model(&self) -> Result<SequentialModel, ReplayError> {
-        let model = SequentialModel::new(self.bounds).map_err(ReplayError::Model)?;
-        Ok(match self.fault {
-            Some(fault) => model.with_fault(fault),
-            None => model,
-        })
+    /// The property's name.
+    #[must_use]
+    pub fn property(&self) -> &str {
+        match self {
+            Self::Sequential { property, .. } | Self::Network { property, .. } => property,
+        }
     }
 
-    /// Every step of the trace, the initial state first.
-    ///
-    /// # Errors
-    /// If the model cannot be built.
-    pub fn replay(&self) -> Result<Vec<Step>, ReplayError> {
-        let model = self.model()?;
-        let first = model
-            .initial()
-            .map_err(|e| ReplayError::Model(ModelError::Bounds(e.to_string())))?;
-        let mut steps = vec![first];
-        for input in &self.inputs {
-            let next = steps.last().map(|last| model.step(last, input));
-            steps.extend(next);
+    /// How many steps the trace has.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Sequential { inputs, .. } => inputs.len(),
+            Self::Network { actions, .. } => actions.len(),
         }
-        Ok(steps)
+    }
+
+    /// Whether the trace has no step.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The same trace run against the shipped code, without the injected fault.
+    #[must_use]
+    pub fn without_fault(&self) -> Self {
+        let mut trace = self.clone();
+        match &mut trace {
+            Self::Sequential { fault, .. } | Self::Network { fault, .. } => *fault = None,
+        }
+        trace
     }
 
     /// Whether the property holds in the trace's last state.
@@ -78,64 +98,145 @@ impl Trace {
     /// # Errors
     /// If the model cannot be built or the property is unknown.
     pub fn holds_at_end(&self) -> Result<bool, ReplayError> {
-        let model = self.model()?;
-        let property = crate::sequential::properties()
-            .into_iter()
-            .find(|p| p.name == self.property)
-            .ok_or_else(|| ReplayError::UnknownProperty(self.property.clone()))?;
-        let steps = self.replay()?;
-        Ok(steps
-            .last()
-            .is_some_and(|last| (property.condition)(&model, last)))
+        match self {
+            Self::Sequential {
+                bounds,
+                fault,
+                property,
+                inputs,
+            } => {
+                let model = sequential(*bounds, *fault)?;
+                let condition = crate::sequential::properties()
+                    .into_iter()
+                    .find(|p| p.name == property)
+                    .ok_or_else(|| ReplayError::UnknownProperty(property.clone()))?
+                    .condition;
+                let steps = model.replay(inputs).map_err(ReplayError::Model)?;
+                Ok(steps.last().is_some_and(|last| condition(&model, last)))
+            }
+            Self::Network {
+                bounds,
+                fault,
+                property,
+                actions,
+            } => {
+                let model = network(*bounds, *fault)?;
+                let condition = crate::network::properties()
+                    .into_iter()
+                    .find(|p| p.name == property)
+                    .ok_or_else(|| ReplayError::UnknownProperty(property.clone()))?
+                    .condition;
+                let steps = model.replay(actions).map_err(ReplayError::Model)?;
+                Ok(steps.last().is_some_and(|last| condition(&model, last)))
+            }
+        }
     }
 
-    /// The trace as numbered steps: the input, the rule that fired or rejected it, and every
+    /// The trace as numbered steps: what happened, the rule the library applied, and every
     /// live scene's merged decision afterwards.
     ///
     /// # Errors
     /// If the model cannot be built.
     pub fn render(&self) -> Result<String, ReplayError> {
-        let model = self.model()?;
-        let steps = self.replay()?;
-        let mut out = String::new();
-        let _ = writeln!(out, "{}", self.property);
-        for (n, (input, step)) in self.inputs.iter().zip(steps.iter().skip(1)).enumerate() {
-            let rule = step.last.map_or("-", Rule::tag);
-            let verdict = if step.last.is_some_and(Rule::is_rejection) {
-                "rejected by"
-            } else {
-                "fired"
-            };
-            let _ = writeln!(out, "{:>3}. {}", n + 1, describe(input));
-            let _ = writeln!(out, "     {verdict} {rule}");
-            let mut merged = Vec::new();
-            for (id, scene) in step.core.scenes() {
-                let decision = model
-                    .merged_decision(&step.core, id)
-                    .map_or("none", |d| d.as_str());
-                merged.push(format!(
-                    "{} {} {} [module {}, operator {}, policy {}] -> {decision}",
-                    short(id),
-                    scene.module(),
-                    scene.phase(),
-                    scene.module_decision(),
-                    scene.operator_decision(),
-                    step.core.policy(scene.module()).map_or("-", |p| p.as_str()),
-                ));
+        let mut out = format!("{}\n", self.property());
+        match self {
+            Self::Sequential {
+                bounds,
+                fault,
+                inputs,
+                ..
+            } => {
+                let model = sequential(*bounds, *fault)?;
+                let steps = model.replay(inputs).map_err(ReplayError::Model)?;
+                for (n, (input, step)) in inputs.iter().zip(steps.iter().skip(1)).enumerate() {
+                    let _ = writeln!(out, "{:>3}. {}", n + 1, describe(input));
+                    rule_line(&mut out, step.last);
+                    scenes(&mut out, &step.core, |id| {
+                        model.merged_decision(&step.core, id)
+                    });
+                }
             }
-            if merged.is_empty() {
-                merged.push("no live scene".into());
-            }
-            for line in merged {
-                let _ = writeln!(out, "     {line}");
+            Self::Network {
+                bounds,
+                fault,
+                actions,
+                ..
+            } => {
+                let model = network(*bounds, *fault)?;
+                let steps = model.replay(actions).map_err(ReplayError::Model)?;
+                for (n, (action, step)) in actions.iter().zip(steps.iter().skip(1)).enumerate() {
+                    let _ = writeln!(out, "{:>3}. {}", n + 1, model.describe(action));
+                    rule_line(&mut out, step.last);
+                    scenes(&mut out, &step.core, |id| step.core.merged_decision(id));
+                    for (k, view) in step.views.iter().enumerate() {
+                        let seen: Vec<String> = view
+                            .iter()
+                            .map(|s| format!("{} (incarnation {})", short(s.id), s.incarnation))
+                            .collect();
+                        let _ = writeln!(out, "     operator {} sees [{}]", k + 1, seen.join(", "));
+                    }
+                }
             }
         }
         Ok(out)
     }
 }
 
+fn sequential(bounds: Bounds, fault: Option<Fault>) -> Result<SequentialModel, ReplayError> {
+    let model = SequentialModel::new(bounds).map_err(ReplayError::Model)?;
+    Ok(match fault {
+        Some(fault) => model.with_fault(fault),
+        None => model,
+    })
+}
+
+fn network(bounds: NetBounds, fault: Option<Fault>) -> Result<NetworkModel, ReplayError> {
+    let model = NetworkModel::new(bounds).map_err(ReplayError::Model)?;
+    Ok(match fault {
+        Some(fault) => model.with_fault(fault),
+        None => model,
+    })
+}
+
+fn rule_line(out: &mut String, rule: Option<Rule>) {
+    if let Some(rule) = rule {
+        let verdict = if rule.is_rejection() {
+            "rejected by"
+        } else {
+            "fired"
+        };
+        let _ = writeln!(out, "     {verdict} {}", rule.tag());
+    }
+}
+
+fn scenes(
+    out: &mut String,
+    core: &State,
+    merged: impl Fn(SceneId) -> Option<cooperation::Decision>,
+) {
+    let mut any = false;
+    for (id, scene) in core.scenes() {
+        any = true;
+        let decision = merged(id).map_or("none", |d| d.as_str());
+        let _ = writeln!(
+            out,
+            "     {} {} {} [module {}, operator {}, policy {}] -> {decision}",
+            short(id),
+            scene.module(),
+            scene.phase(),
+            scene.module_decision(),
+            scene.operator_decision(),
+            core.policy(scene.module()).map_or("-", |p| p.as_str()),
+        );
+    }
+    if !any {
+        let _ = writeln!(out, "     no live scene");
+    }
+}
+
 /// A scene identifier as the model's small number.
-fn short(id: cooperation::SceneId) -> String {
+#[must_use]
+pub fn short(id: SceneId) -> String {
     let value = u128::from_be_bytes(*id.as_bytes());
     format!("#{value}")
 }
