@@ -1,9 +1,9 @@
 //! The sequential model: one state, inputs one at a time, every interleaving of owner inputs,
 //! commands, policy changes and time over a bounded set of identifiers and modules.
 //!
-//! `next_state` calls [`State::apply`] (through [`SequentialModel::apply`], which is exactly
-//! `State::apply` unless a [`Fault`] is injected for a sensitivity test) and then records what
-//! it observed in history variables ([`Ghost`]): the rule that fired, and sticky flags for
+//! `next_state` calls the library's transition, [`State::after`] (the by-value form of
+//! `State::apply`), through [`SequentialModel::transition`], which is exactly that unless a
+//! [`Fault`] is injected for a sensitivity test; then it records what it observed in history variables ([`Ghost`]): the rule that fired, and sticky flags for
 //! transition properties (a property of a step, not of a state). A flag is only ever set when a
 //! property is violated, so in a correct run the flags add no states.
 
