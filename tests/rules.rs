@@ -313,15 +313,11 @@ fn coop_own_update_1() {
 #[test]
 fn coop_own_remove_1() {
     let mut state = with_scenes();
-    fires(
+    walk(
         &mut state,
-        update(id(2), AVOIDANCE, Phase::Running, Decision::Activate),
-        Rule::OwnerUpdate,
-    );
-    fires(
-        &mut state,
-        update(id(2), AVOIDANCE, Phase::Aborting, Decision::Activate),
-        Rule::OwnerUpdate,
+        id(2),
+        AVOIDANCE,
+        &[Phase::Running, Phase::Aborting],
     );
     let transition = fires(
         &mut state,
@@ -492,15 +488,11 @@ fn coop_cmd_retired_1() {
 #[test]
 fn coop_cmd_not_cancellable_1() {
     let mut state = with_scenes();
-    fires(
+    walk(
         &mut state,
-        update(id(1), LANE_CHANGE, Phase::Running, Decision::Activate),
-        Rule::OwnerUpdate,
-    );
-    fires(
-        &mut state,
-        update(id(1), LANE_CHANGE, Phase::Aborting, Decision::Activate),
-        Rule::OwnerUpdate,
+        id(1),
+        LANE_CHANGE,
+        &[Phase::Running, Phase::Aborting],
     );
     let rejection = rejects(
         &mut state,

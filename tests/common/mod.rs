@@ -108,3 +108,15 @@ pub fn with_scenes() -> State {
     );
     state
 }
+
+/// Moves a live scene through `phases` by its owner's updates (module decision activate),
+/// asserting each is an accepted, non-terminal update.
+pub fn walk(state: &mut State, id: SceneId, module: Module, phases: &[Phase]) {
+    for phase in phases {
+        fires(
+            state,
+            update(id, module, *phase, Decision::Activate),
+            Rule::OwnerUpdate,
+        );
+    }
+}
