@@ -99,3 +99,41 @@ fn coop_inv_module_1() {
     let error = refused(|v| v["policies"] = json!([]));
     assert!(error.contains("COOP-INV-MODULE.1"), "{error}");
 }
+
+/// `[COOP-INV-RETIRED-ORDER.1]` past 32 retired identifiers, where the check counts distinct
+/// entries instead of comparing pairs: an exact order passes, a repeated entry is refused.
+#[test]
+fn coop_inv_retired_order_1_large() {
+    let mut state = State::new(Config {
+        limits: Limits {
+            retired_capacity: 100,
+            ..config().limits
+        },
+        ..config()
+    })
+    .expect("valid");
+    for n in 1..=40 {
+        fires(
+            &mut state,
+            register(id(n), LANE_CHANGE, Decision::Activate),
+            Rule::RegisterNew,
+        );
+        fires(
+            &mut state,
+            Input::Remove {
+                id: id(n),
+                module: LANE_CHANGE,
+            },
+            Rule::OwnerRemove,
+        );
+    }
+    assert_eq!(state.check_invariants(), Ok(()));
+    let mut value = serde_json::to_value(&state).expect("serializes");
+    let order = value["retired_order"].as_array_mut().expect("list");
+    let first = order[0].clone();
+    order[1] = first;
+    let error = serde_json::from_value::<State>(value)
+        .expect_err("refused")
+        .to_string();
+    assert!(error.contains("COOP-INV-RETIRED-ORDER.1"), "{error}");
+}
