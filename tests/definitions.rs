@@ -10,21 +10,7 @@ use cooperation::*;
 #[test]
 fn coop_retire_1() {
     let mut state = state();
-    for n in 1..=4 {
-        fires(
-            &mut state,
-            register(id(n), LANE_CHANGE, Decision::Activate),
-            Rule::RegisterNew,
-        );
-        fires(
-            &mut state,
-            Input::Remove {
-                id: id(n),
-                module: LANE_CHANGE,
-            },
-            Rule::OwnerRemove,
-        );
-    }
+    churn(&mut state, 1..=4);
     let remembered: Vec<SceneId> = state.retired().map(|(id, _)| id).collect();
     assert_eq!(remembered, [id(2), id(3), id(4)]);
     assert_eq!(state.retirement(id(1)), None);

@@ -112,21 +112,7 @@ fn coop_inv_retired_order_1_large() {
         ..config()
     })
     .expect("valid");
-    for n in 1..=40 {
-        fires(
-            &mut state,
-            register(id(n), LANE_CHANGE, Decision::Activate),
-            Rule::RegisterNew,
-        );
-        fires(
-            &mut state,
-            Input::Remove {
-                id: id(n),
-                module: LANE_CHANGE,
-            },
-            Rule::OwnerRemove,
-        );
-    }
+    churn(&mut state, 1..=40);
     assert_eq!(state.check_invariants(), Ok(()));
     let mut value = serde_json::to_value(&state).expect("serializes");
     let order = value["retired_order"].as_array_mut().expect("list");

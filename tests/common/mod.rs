@@ -120,3 +120,22 @@ pub fn walk(state: &mut State, id: SceneId, module: Module, phases: &[Phase]) {
         );
     }
 }
+
+/// Registers and removes each identifier of `ids` in turn, so that each retires as removed.
+pub fn churn(state: &mut State, ids: std::ops::RangeInclusive<u128>) {
+    for n in ids {
+        fires(
+            state,
+            register(id(n), LANE_CHANGE, Decision::Activate),
+            Rule::RegisterNew,
+        );
+        fires(
+            state,
+            Input::Remove {
+                id: id(n),
+                module: LANE_CHANGE,
+            },
+            Rule::OwnerRemove,
+        );
+    }
+}
