@@ -12,6 +12,7 @@
     clippy::indexing_slicing
 )]
 
+pub mod diagrams;
 pub mod fault;
 pub mod network;
 pub mod run;

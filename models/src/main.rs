@@ -33,6 +33,7 @@ const USAGE: &str = "usage:
                              [--no-symmetry] [--fault NAME] [--out DIR]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
+  cooperation-models diagrams [--check]
 
 defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired one remembered,
 2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
@@ -264,6 +265,25 @@ fn replay(file: &str) -> Result<bool, String> {
     Ok(holds)
 }
 
+/// Rewrites the generated diagrams in the spec (or, with `--check`, only says whether they are
+/// current).
+fn diagrams(args: &[String]) -> Result<bool, String> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../spec/cooperation.md");
+    let spec = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    let current = cooperation_models::diagrams::regenerate(&spec);
+    if current == spec {
+        println!("the diagrams in spec/cooperation.md are current");
+        return Ok(true);
+    }
+    if args.iter().any(|a| a == "--check") {
+        println!("the diagrams in spec/cooperation.md differ from the code");
+        return Ok(false);
+    }
+    std::fs::write(path, current).map_err(|e| format!("{path}: {e}"))?;
+    println!("rewrote the diagrams in spec/cooperation.md");
+    Ok(true)
+}
+
 fn explore(options: &Options) -> Result<bool, String> {
     let model = model(options)?;
     println!(
@@ -283,6 +303,7 @@ fn main() -> ExitCode {
         Some((command, rest)) if command == "check" => parse(rest).and_then(|o| run_check(&o)),
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
         Some((command, [file])) if command == "replay" => replay(file),
+        Some((command, rest)) if command == "diagrams" => diagrams(rest),
         Some((command, _)) if command == "help" || command == "--help" => {
             println!("{usage}");
             Ok(true)
