@@ -19,6 +19,7 @@ pub mod run;
 pub mod sequential;
 pub mod spec;
 pub mod trace;
+pub mod traceability;
 
 pub use fault::Fault;
 pub use network::{NetBounds, NetworkModel};

@@ -34,6 +34,7 @@ const USAGE: &str = "usage:
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
   cooperation-models diagrams [--check]
+  cooperation-models traceability [--check]
 
 defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired one remembered,
 2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
@@ -284,6 +285,30 @@ fn diagrams(args: &[String]) -> Result<bool, String> {
     Ok(true)
 }
 
+/// Writes docs/traceability.md from the sources (or, with `--check`, only compares).
+fn traceability(args: &[String]) -> Result<bool, String> {
+    use cooperation_models::traceability::{gaps, markdown, rows};
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
+    let rows = rows(root);
+    for gap in gaps(&rows) {
+        println!("gap: {gap}");
+    }
+    let text = markdown(&rows);
+    let path = root.join("docs/traceability.md");
+    let current = std::fs::read_to_string(&path).unwrap_or_default();
+    if current == text {
+        println!("docs/traceability.md is current ({} tags)", rows.len());
+        return Ok(gaps(&rows).is_empty());
+    }
+    if args.iter().any(|a| a == "--check") {
+        println!("docs/traceability.md is stale");
+        return Ok(false);
+    }
+    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    println!("wrote docs/traceability.md ({} tags)", rows.len());
+    Ok(gaps(&rows).is_empty())
+}
+
 fn explore(options: &Options) -> Result<bool, String> {
     let model = model(options)?;
     println!(
@@ -304,6 +329,7 @@ fn main() -> ExitCode {
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
         Some((command, [file])) if command == "replay" => replay(file),
         Some((command, rest)) if command == "diagrams" => diagrams(rest),
+        Some((command, rest)) if command == "traceability" => traceability(rest),
         Some((command, _)) if command == "help" || command == "--help" => {
             println!("{usage}");
             Ok(true)

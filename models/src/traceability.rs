@@ -1,0 +1,249 @@
+//! The traceability matrix, generated from the sources: for every tag of
+//! `spec/cooperation.md`, its spec section, the places in `src/` that carry it (file and
+//! enclosing function), the model properties named after it, and the tests named after it.
+//! `cooperation-models traceability` writes it to `docs/traceability.md`; a test fails when the
+//! checked-in matrix is stale or a rule lacks code, a property or a test.
+
+use core::fmt::Write as _;
+use std::path::Path;
+
+/// One tag's row.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Row {
+    /// The tag, for example `COOP-CMD-UNKNOWN.1`.
+    pub tag: String,
+    /// The spec section it is defined in (its `##` number).
+    pub section: u32,
+    /// The spec subsection heading it sits under.
+    pub heading: String,
+    /// `file::function` places in `src/` that carry `[tag]`.
+    pub code: Vec<String>,
+    /// Model properties named after it.
+    pub properties: Vec<String>,
+    /// Tests named after it (`file::function`).
+    pub tests: Vec<String>,
+}
+
+/// Reads the tags of the spec's sections 5 (rules), 6 (definitions), 8 (invariants) and 9
+/// (deviations), with the heading they sit under.
+fn spec_tags(spec: &str) -> Vec<(String, u32, String)> {
+    let mut section = 0;
+    let mut heading = String::new();
+    let mut tags = Vec::new();
+    for line in spec.lines() {
+        if let Some(rest) = line.strip_prefix("## ") {
+            section = rest
+                .split('.')
+                .next()
+                .and_then(|n| n.trim().parse().ok())
+                .unwrap_or(0);
+            heading = rest.trim().to_owned();
+        } else if let Some(rest) = line.strip_prefix("### ") {
+            heading = rest.trim().to_owned();
+        } else if let Some(rest) = line.strip_prefix("#### [") {
+            if let Some(tag) = rest.split(']').next() {
+                if matches!(section, 5 | 6 | 8 | 9) {
+                    tags.push((tag.to_owned(), section, heading.clone()));
+                }
+            }
+        }
+    }
+    tags
+}
+
+/// The `.rs` files of a directory (not recursive), sorted, with their text.
+fn sources(dir: &Path) -> Vec<(String, String)> {
+    let mut files: Vec<(String, String)> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|entry| entry.path())
+        .filter(|path| path.extension().is_some_and(|e| e == "rs"))
+        .filter_map(|path| {
+            let text = std::fs::read_to_string(&path).ok()?;
+            let name = path.file_name()?.to_string_lossy().into_owned();
+            Some((name, text))
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// The name of the function a line sits in: the nearest `fn name` at or above it.
+fn enclosing_function(lines: &[&str], at: usize) -> String {
+    lines
+        .iter()
+        .take(at + 1)
+        .rev()
+        .find_map(|line| {
+            let rest = line.trim_start().split("fn ").nth(1)?;
+            let is_fn = line.trim_start().starts_with("fn ")
+                || line.trim_start().starts_with("pub fn ")
+                || line.trim_start().starts_with("pub const fn ")
+                || line.trim_start().starts_with("const fn ");
+            is_fn.then(|| rest.split(['(', '<']).next().unwrap_or(rest).to_owned())
+        })
+        .unwrap_or_else(|| "(item)".to_owned())
+}
+
+/// The name of the item a doc comment at `at` documents: the first line after it that is not
+/// a doc comment or an attribute.
+fn documented_item(lines: &[&str], at: usize) -> String {
+    let item = lines
+        .iter()
+        .skip(at)
+        .map(|line| line.trim_start())
+        .find(|line| !line.starts_with("///") && !line.starts_with("#["))
+        .unwrap_or("");
+    let mut words = item
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .filter(|w| !w.is_empty())
+        .skip_while(|w| {
+            matches!(
+                *w,
+                "pub" | "const" | "fn" | "struct" | "enum" | "impl" | "crate"
+            )
+        });
+    words.next().unwrap_or("(item)").to_owned()
+}
+
+/// Where a tag written on line `at` of `text` belongs: a doc comment (`///`) to the item it
+/// documents, a plain comment (`//`) to the function it sits in; `None` for anything else.
+fn place(lines: &[&str], at: usize) -> Option<String> {
+    let line = lines.get(at)?.trim_start();
+    if line.starts_with("//!") {
+        None
+    } else if line.starts_with("///") {
+        Some(documented_item(lines, at))
+    } else if line.starts_with("//") {
+        Some(enclosing_function(lines, at))
+    } else {
+        None
+    }
+}
+
+/// Every row of the matrix, from the repository at `root`.
+#[must_use]
+pub fn rows(root: &Path) -> Vec<Row> {
+    let spec = std::fs::read_to_string(root.join("spec/cooperation.md")).unwrap_or_default();
+    let code = sources(&root.join("src"));
+    let mut tests = sources(&root.join("tests"));
+    tests.extend(
+        sources(&root.join("models/tests"))
+            .into_iter()
+            .map(|(n, t)| (format!("models/{n}"), t)),
+    );
+    let properties: Vec<&'static str> = crate::sequential::properties()
+        .iter()
+        .map(|p| p.name)
+        .chain(crate::network::properties().iter().map(|p| p.name))
+        .collect();
+    spec_tags(&spec)
+        .into_iter()
+        .map(|(tag, section, heading)| {
+            let marker = format!("[{tag}]");
+            let mut places = Vec::new();
+            for (file, text) in &code {
+                let lines: Vec<&str> = text.lines().collect();
+                for (at, line) in lines.iter().enumerate() {
+                    if !line.contains(&marker) {
+                        continue;
+                    }
+                    if let Some(item) = place(&lines, at) {
+                        let place = format!("src/{file}::{item}");
+                        if !places.contains(&place) {
+                            places.push(place);
+                        }
+                    }
+                }
+            }
+            let family = tag.split('-').take(2).collect::<Vec<_>>().join("-");
+            let named: Vec<String> = properties
+                .iter()
+                .filter(|p| {
+                    p.starts_with(&format!("{tag}:"))
+                        || p.starts_with(&format!("{tag} "))
+                        || (family == "COOP-INV" && p.starts_with("COOP-INV-*"))
+                })
+                .map(|p| (*p).to_owned())
+                .collect();
+            let test_name = tag.to_lowercase().replace(['-', '.'], "_");
+            let tested: Vec<String> = tests
+                .iter()
+                .filter(|(_, text)| {
+                    text.contains(&format!("fn {test_name}("))
+                        || text.contains(&format!("fn {test_name}_"))
+                })
+                .map(|(file, _)| format!("tests/{file}::{test_name}"))
+                .collect();
+            Row {
+                tag,
+                section,
+                heading,
+                code: places,
+                properties: named,
+                tests: tested,
+            }
+        })
+        .collect()
+}
+
+/// What a rule row lacks: a rule of §5 needs code, a property and a test; every other tag code
+/// (or, for a deviation, a test) and a test.
+#[must_use]
+pub fn gaps(rows: &[Row]) -> Vec<String> {
+    let mut gaps = Vec::new();
+    for row in rows {
+        let needs_code = row.section != 9;
+        let needs_property = row.section == 5;
+        if needs_code && row.code.is_empty() {
+            gaps.push(format!(
+                "{}: no place in src/ carries [{}]",
+                row.tag, row.tag
+            ));
+        }
+        if needs_property && row.properties.is_empty() {
+            gaps.push(format!("{}: no model property is named after it", row.tag));
+        }
+        if row.tests.is_empty() {
+            gaps.push(format!("{}: no test is named after it", row.tag));
+        }
+    }
+    gaps
+}
+
+/// The matrix as Markdown.
+#[must_use]
+pub fn markdown(rows: &[Row]) -> String {
+    let mut out = String::from(
+        "# Traceability\n\nGenerated by `cargo run -p cooperation-models -- traceability` from \
+         `spec/cooperation.md`, `src/`, the models' properties and the tests; \
+         `models/tests/traceability.rs` fails when this file is stale or a rule lacks code, a \
+         property or a test. Do not edit by hand.\n\n\
+         | Tag | Spec | Code | Model properties | Tests |\n|---|---|---|---|---|\n",
+    );
+    for row in rows {
+        let list = |items: &[String]| {
+            if items.is_empty() {
+                "—".to_owned()
+            } else {
+                items
+                    .iter()
+                    .map(|i| format!("`{i}`"))
+                    .collect::<Vec<_>>()
+                    .join("<br>")
+            }
+        };
+        let _ = writeln!(
+            out,
+            "| `{}` | §{} {} | {} | {} | {} |",
+            row.tag,
+            row.section,
+            row.heading,
+            list(&row.code),
+            list(&row.properties),
+            list(&row.tests)
+        );
+    }
+    out
+}

@@ -1,0 +1,40 @@
+//! The traceability matrix in docs/ is generated from the sources and current, and every rule
+//! of the spec has code, a model property and a test.
+
+use std::path::Path;
+
+use cooperation_models::traceability::{gaps, markdown, rows, Row};
+
+fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
+
+#[test]
+fn every_rule_has_code_a_property_and_a_test() {
+    let rows = rows(root());
+    assert!(rows.iter().filter(|r| r.section == 5).count() == cooperation::Rule::ALL.len());
+    assert_eq!(gaps(&rows), Vec::<String>::new());
+}
+
+#[test]
+fn the_checked_in_matrix_is_current() {
+    let text = std::fs::read_to_string(root().join("docs/traceability.md")).expect("readable");
+    assert!(
+        text == markdown(&rows(root())),
+        "docs/traceability.md is stale: run `cargo run -p cooperation-models -- traceability`"
+    );
+}
+
+/// A rule that lost its property or its test is reported.
+#[test]
+fn a_missing_property_or_test_is_a_gap() {
+    let mut rows = rows(root());
+    let rule = rows
+        .iter_mut()
+        .find(|r: &&mut Row| r.section == 5)
+        .expect("a rule");
+    rule.properties.clear();
+    rule.tests.clear();
+    let found = gaps(&rows);
+    assert_eq!(found.len(), 2, "{found:?}");
+}
