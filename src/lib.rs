@@ -77,6 +77,16 @@ pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Ret
 pub use rule::Rule;
 pub use state::{Config, ConfigError, Limits, Scene, State, Transition};
 
+pub mod guide {
+    //! Guides for the library's users, with examples that compile and run as doctests.
+
+    #[doc = include_str!("../docs/guide-planner.md")]
+    pub mod planner {}
+
+    #[doc = include_str!("../docs/guide-operator.md")]
+    pub mod operator {}
+}
+
 /// The README's example, compiled and run as a doctest.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
