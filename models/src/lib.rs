@@ -20,6 +20,7 @@ pub mod sequential;
 pub mod spec;
 pub mod trace;
 pub mod traceability;
+pub mod witnesses;
 
 pub use fault::Fault;
 pub use network::{NetBounds, NetworkModel};

@@ -35,6 +35,7 @@ const USAGE: &str = "usage:
   cooperation-models replay  FILE
   cooperation-models diagrams [--check]
   cooperation-models traceability [--check]
+  cooperation-models witnesses [--check]
 
 defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired one remembered,
 2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
@@ -236,7 +237,14 @@ fn present(
         println!("\nshortest counterexample, {} steps:", trace.len());
         print!("{}", trace.render().map_err(|e| e.to_string())?);
         let file = save(out, trace)?;
-        println!("saved as {}", file.display());
+        let diagram = trace.sequence_diagram().map_err(|e| e.to_string())?;
+        let mermaid = file.with_extension("mmd");
+        std::fs::write(&mermaid, diagram).map_err(|e| format!("{}: {e}", mermaid.display()))?;
+        println!(
+            "saved as {} (sequence diagram: {})",
+            file.display(),
+            mermaid.display()
+        );
     }
     Ok(report.passed())
 }
@@ -309,6 +317,24 @@ fn traceability(args: &[String]) -> Result<bool, String> {
     Ok(gaps(&rows).is_empty())
 }
 
+/// Writes docs/witnesses.md (or, with `--check`, only compares).
+fn witnesses(args: &[String]) -> Result<bool, String> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/witnesses.md");
+    let text = cooperation_models::witnesses::page();
+    let current = std::fs::read_to_string(path).unwrap_or_default();
+    if current == text {
+        println!("docs/witnesses.md is current");
+        return Ok(true);
+    }
+    if args.iter().any(|a| a == "--check") {
+        println!("docs/witnesses.md is stale");
+        return Ok(false);
+    }
+    std::fs::write(path, text).map_err(|e| format!("{path}: {e}"))?;
+    println!("wrote docs/witnesses.md");
+    Ok(true)
+}
+
 fn explore(options: &Options) -> Result<bool, String> {
     let model = model(options)?;
     println!(
@@ -330,6 +356,7 @@ fn main() -> ExitCode {
         Some((command, [file])) if command == "replay" => replay(file),
         Some((command, rest)) if command == "diagrams" => diagrams(rest),
         Some((command, rest)) if command == "traceability" => traceability(rest),
+        Some((command, rest)) if command == "witnesses" => witnesses(rest),
         Some((command, _)) if command == "help" || command == "--help" => {
             println!("{usage}");
             Ok(true)

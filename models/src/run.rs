@@ -257,3 +257,29 @@ where
     }
     Some(model.trace(property, path.into_actions()))
 }
+
+/// The shortest path reaching the named `sometimes` property (a witness): a one-thread
+/// breadth-first search for that property alone, stopping at the first example.
+#[must_use]
+pub fn witness<M>(model: &M, property: &'static str) -> Option<Trace>
+where
+    M: Checkable,
+    M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
+    M::Action: Debug + Clone + PartialEq + Send + Sync,
+{
+    let checker = model
+        .clone()
+        .focus(property)
+        .checker()
+        .finish_when(HasDiscoveries::Any)
+        .spawn_bfs()
+        .join();
+    let path = checker.discovery(property)?;
+    if !matches!(
+        checker.discovery_classification(property),
+        DiscoveryClassification::Example
+    ) {
+        return None;
+    }
+    Some(model.trace(property, path.into_actions()))
+}

@@ -182,6 +182,120 @@ impl Trace {
     }
 }
 
+impl Trace {
+    /// The trace as a Mermaid sequence diagram between the scene owner (the planning module),
+    /// the operator(s) and the planner, with the rule each input met and the merged decisions
+    /// after it as notes.
+    ///
+    /// # Errors
+    /// If the model cannot be built.
+    pub fn sequence_diagram(&self) -> Result<String, ReplayError> {
+        let mut out = String::from("sequenceDiagram\n");
+        match self {
+            Self::Sequential {
+                bounds,
+                fault,
+                inputs,
+                ..
+            } => {
+                out +=
+                    "    participant Module\n    participant Planner\n    participant Operator\n";
+                let model = sequential(*bounds, *fault)?;
+                let steps = model.replay(inputs).map_err(ReplayError::Model)?;
+                for (input, step) in inputs.iter().zip(steps.iter().skip(1)) {
+                    let from = match input {
+                        Input::SetCommands { .. } | Input::SetPolicies { .. } => "Operator",
+                        Input::Tick { .. } => "Planner",
+                        Input::Register { .. } | Input::Update { .. } | Input::Remove { .. } => {
+                            "Module"
+                        }
+                    };
+                    let _ = writeln!(out, "    {from}->>Planner: {}", describe(input));
+                    note(&mut out, step.last, &step.core, |id| {
+                        model.merged_decision(&step.core, id)
+                    });
+                }
+            }
+            Self::Network {
+                bounds,
+                fault,
+                actions,
+                ..
+            } => {
+                out += "    participant Module\n    participant Planner\n    participant Operator1 as Operator 1\n    participant Operator2 as Operator 2\n";
+                let model = network(*bounds, *fault)?;
+                let steps = model.replay(actions).map_err(ReplayError::Model)?;
+                for (action, step) in actions.iter().zip(steps.iter().skip(1)) {
+                    let (from, to, arrow) = match action {
+                        NetAction::Owner(_) => ("Module", "Planner".to_owned(), "->>"),
+                        NetAction::Publish(k) => ("Planner", format!("Operator{}", k + 1), "--)"),
+                        NetAction::Send(k, ..) => (operator(*k), "Planner".to_owned(), "--)"),
+                        NetAction::Deliver(..) => ("Planner", "Planner".to_owned(), "->>"),
+                        NetAction::Receive(k, _)
+                        | NetAction::ReceiveDuplicate(k, _)
+                        | NetAction::LoseStatus(k, _) => {
+                            (operator(*k), operator(*k).to_owned(), "->>")
+                        }
+                        NetAction::DuplicateCommand(k, _) | NetAction::LoseCommand(k, _) => {
+                            (operator(*k), operator(*k).to_owned(), "->>")
+                        }
+                    };
+                    let _ = writeln!(out, "    {from}{arrow}{to}: {}", model.describe(action));
+                    if matches!(action, NetAction::Owner(_) | NetAction::Deliver(..)) {
+                        note(&mut out, step.last, &step.core, |id| {
+                            step.core.merged_decision(id)
+                        });
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+fn operator(k: usize) -> &'static str {
+    if k == 0 {
+        "Operator1"
+    } else {
+        "Operator2"
+    }
+}
+
+/// A note over the planner: the rule the input met and every live scene's merged decision.
+fn note(
+    out: &mut String,
+    rule: Option<Rule>,
+    core: &State,
+    merged: impl Fn(SceneId) -> Option<cooperation::Decision>,
+) {
+    let verdict = rule.map_or(String::new(), |r| {
+        if r.is_rejection() {
+            format!("rejected by {}", r.tag())
+        } else {
+            format!("{} fired", r.tag())
+        }
+    });
+    let scenes: Vec<String> = core
+        .scenes()
+        .map(|(id, scene)| {
+            let decision = merged(id).map_or("none", |d| d.as_str());
+            format!(
+                "{} {} {}: {decision}",
+                short(id),
+                scene.module(),
+                scene.phase()
+            )
+        })
+        .collect();
+    let scenes = if scenes.is_empty() {
+        "no live scene".to_owned()
+    } else {
+        scenes.join(", ")
+    };
+    // Mermaid ends a statement at `;`, so none may appear in a note.
+    let _ = writeln!(out, "    Note over Planner: {verdict} — {scenes}");
+}
+
 fn sequential(bounds: Bounds, fault: Option<Fault>) -> Result<SequentialModel, ReplayError> {
     let model = SequentialModel::new(bounds).map_err(ReplayError::Model)?;
     Ok(match fault {
