@@ -241,21 +241,9 @@ where
     M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
     M::Action: Debug + Clone + PartialEq + Send + Sync,
 {
-    let checker = model
-        .clone()
-        .focus(property)
-        .checker()
-        .finish_when(HasDiscoveries::AnyFailures)
-        .spawn_bfs()
-        .join();
-    let path = checker.discovery(property)?;
-    if !matches!(
-        checker.discovery_classification(property),
-        DiscoveryClassification::Counterexample
-    ) {
-        return None;
-    }
-    Some(model.trace(property, path.into_actions()))
+    first_discovery(model, property, HasDiscoveries::AnyFailures, |found| {
+        matches!(found, DiscoveryClassification::Counterexample)
+    })
 }
 
 /// The shortest path reaching the named `sometimes` property (a witness): a one-thread
@@ -267,19 +255,32 @@ where
     M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
     M::Action: Debug + Clone + PartialEq + Send + Sync,
 {
+    first_discovery(model, property, HasDiscoveries::Any, |found| {
+        matches!(found, DiscoveryClassification::Example)
+    })
+}
+
+/// A one-thread breadth-first search for one property, stopping as `finish` says, returning the
+/// discovery's trace if it is of the wanted kind.
+fn first_discovery<M>(
+    model: &M,
+    property: &'static str,
+    finish: HasDiscoveries,
+    wanted: fn(&DiscoveryClassification) -> bool,
+) -> Option<Trace>
+where
+    M: Checkable,
+    M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
+    M::Action: Debug + Clone + PartialEq + Send + Sync,
+{
     let checker = model
         .clone()
         .focus(property)
         .checker()
-        .finish_when(HasDiscoveries::Any)
+        .finish_when(finish)
         .spawn_bfs()
         .join();
     let path = checker.discovery(property)?;
-    if !matches!(
-        checker.discovery_classification(property),
-        DiscoveryClassification::Example
-    ) {
-        return None;
-    }
-    Some(model.trace(property, path.into_actions()))
+    wanted(&checker.discovery_classification(property))
+        .then(|| model.trace(property, path.into_actions()))
 }
