@@ -106,13 +106,8 @@ impl Trace {
                 inputs,
             } => {
                 let model = sequential(*bounds, *fault)?;
-                let condition = crate::sequential::properties()
-                    .into_iter()
-                    .find(|p| p.name == property)
-                    .ok_or_else(|| ReplayError::UnknownProperty(property.clone()))?
-                    .condition;
                 let steps = model.replay(inputs).map_err(ReplayError::Model)?;
-                Ok(steps.last().is_some_and(|last| condition(&model, last)))
+                holds_at(&model, property, steps.last())
             }
             Self::Network {
                 bounds,
@@ -121,13 +116,8 @@ impl Trace {
                 actions,
             } => {
                 let model = network(*bounds, *fault)?;
-                let condition = crate::network::properties()
-                    .into_iter()
-                    .find(|p| p.name == property)
-                    .ok_or_else(|| ReplayError::UnknownProperty(property.clone()))?
-                    .condition;
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
-                Ok(steps.last().is_some_and(|last| condition(&model, last)))
+                holds_at(&model, property, steps.last())
             }
         }
     }
@@ -251,6 +241,21 @@ impl Trace {
         }
         Ok(out)
     }
+}
+
+/// Whether the named property of `model` holds in `last` (false when there is no last state).
+fn holds_at<M: stateright::Model>(
+    model: &M,
+    property: &str,
+    last: Option<&M::State>,
+) -> Result<bool, ReplayError> {
+    let condition = model
+        .properties()
+        .into_iter()
+        .find(|p| p.name == property)
+        .ok_or_else(|| ReplayError::UnknownProperty(property.to_owned()))?
+        .condition;
+    Ok(last.is_some_and(|last| condition(model, last)))
 }
 
 fn operator(k: usize) -> &'static str {
