@@ -24,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             id: SceneId::from_u128(n),
             module,
             decision,
+            requested: false,
             geometry,
         })?;
     }

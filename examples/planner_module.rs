@@ -19,6 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         id,
         module: lane_change,
         decision: Decision::Activate,
+        requested: false,
         geometry: geometry(distance),
     })?;
 
@@ -41,6 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             module: lane_change,
             phase,
             decision,
+            requested: false,
             geometry: geometry(distance),
         };
         state.apply(&update)?;
@@ -67,6 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         module: lane_change,
         phase: Phase::Succeeded,
         decision: Decision::Activate,
+        requested: false,
         geometry: geometry(0.0),
     };
     let transition = state.apply(&done)?;
@@ -84,6 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         id,
         module: lane_change,
         decision: Decision::Activate,
+        requested: false,
         geometry: geometry(50.0),
     };
     let rejection = state

@@ -17,6 +17,10 @@ pub enum Input {
         module: Module,
         /// The module's first decision.
         decision: Decision,
+        /// The owner asks for an operator decision whatever the module's policy
+        /// (`[COOP-REQUESTED.1]`). Absent in a serialised input means `false`.
+        #[cfg_attr(feature = "serde", serde(default))]
+        requested: bool,
         /// Where the scene is; its kind (velocity or steering) is fixed from here on.
         geometry: Geometry,
     },
@@ -30,6 +34,10 @@ pub enum Input {
         phase: Phase,
         /// The module's current decision.
         decision: Decision,
+        /// Whether the owner asks for an operator decision (`[COOP-REQUESTED.1]`). Absent in a
+        /// serialised input means `false`.
+        #[cfg_attr(feature = "serde", serde(default))]
+        requested: bool,
         /// The scene's current geometry.
         geometry: Geometry,
     },

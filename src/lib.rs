@@ -23,7 +23,7 @@
 //! // The module opens a scene and decides not to change lanes.
 //! let id = SceneId::from_u128(0x5678);
 //! let geometry = Geometry::steering(Direction::Left, 30.0, 60.0);
-//! let register = Input::Register { id, module: lane_change, decision: Decision::Deactivate, geometry };
+//! let register = Input::Register { id, module: lane_change, decision: Decision::Deactivate, requested: false, geometry };
 //! assert_eq!(state.apply(&register)?.rule, Rule::RegisterNew);
 //! assert_eq!(state.merged_decision(id), Some(Decision::Deactivate));
 //!

@@ -91,6 +91,7 @@ pub struct Scene {
     phase: Phase,
     module_decision: Decision,
     operator_decision: OperatorDecision,
+    requested: bool,
     age_ms: u64,
     geometry: Geometry,
 }
@@ -120,6 +121,24 @@ impl Scene {
         self.operator_decision
     }
 
+    /// Whether the owner asks for an operator decision (`[COOP-REQUESTED.1]`): an undecided
+    /// scene is then held back whatever its module's policy.
+    #[must_use]
+    pub const fn is_requested(&self) -> bool {
+        self.requested
+    }
+
+    /// The policy that applies to this scene: `required` if the owner asks for an operator
+    /// decision, else its module's policy (`[COOP-REQUESTED.1]`).
+    #[must_use]
+    pub const fn effective_policy(&self, module_policy: Policy) -> Policy {
+        if self.requested {
+            Policy::Required
+        } else {
+            module_policy
+        }
+    }
+
     /// Time since the owner last registered or updated the scene, at most the time-to-live.
     #[must_use]
     pub const fn age_ms(&self) -> u64 {
@@ -138,18 +157,24 @@ impl Scene {
         self.phase.is_cancellable()
     }
 
-    /// The merged decision under the module's policy (`[COOP-MERGE.1]`).
+    /// The merged decision under the module's policy (`[COOP-MERGE.1]`), with the policy
+    /// made `required` for a requested scene (`[COOP-REQUESTED.1]`).
     #[must_use]
-    pub const fn merged_decision(&self, policy: Policy) -> Decision {
-        merge(self.operator_decision, policy, self.module_decision)
+    pub const fn merged_decision(&self, module_policy: Policy) -> Decision {
+        merge(
+            self.operator_decision,
+            self.effective_policy(module_policy),
+            self.module_decision,
+        )
     }
 
-    /// The operator activated what the module would not (`[COOP-FORCE-ACTIVATED.1]`).
+    /// The operator activated what the module would not, or would not decide on its own
+    /// (`[COOP-FORCE-ACTIVATED.1]`).
     #[must_use]
     pub const fn is_force_activated(&self) -> bool {
         self.phase.is_cancellable()
             && matches!(self.operator_decision, OperatorDecision::Activate)
-            && matches!(self.module_decision, Decision::Deactivate)
+            && (matches!(self.module_decision, Decision::Deactivate) || self.requested)
     }
 
     /// The operator deactivated a running scene the module would go on with
@@ -189,6 +214,7 @@ enum Plan<'a> {
         id: SceneId,
         phase: Phase,
         decision: Decision,
+        requested: bool,
         geometry: Geometry,
     },
     /// `[COOP-OWN-FINISH.1]` or `[COOP-OWN-REMOVE.1]`.
@@ -288,15 +314,17 @@ impl State {
                 id,
                 module,
                 decision,
+                requested,
                 geometry,
-            } => self.decide_register(*id, *module, *decision, *geometry),
+            } => self.decide_register(*id, *module, *decision, *requested, *geometry),
             Input::Update {
                 id,
                 module,
                 phase,
                 decision,
+                requested,
                 geometry,
-            } => self.decide_update(*id, *module, *phase, *decision, *geometry),
+            } => self.decide_update(*id, *module, *phase, *decision, *requested, *geometry),
             Input::Remove { id, module } => {
                 self.owned_scene(*id, *module)?;
                 // [COOP-OWN-REMOVE.1]
@@ -323,11 +351,13 @@ impl State {
                 id,
                 phase,
                 decision,
+                requested,
                 geometry,
             } => {
                 if let Some(scene) = self.scenes.get_mut(&id) {
                     scene.phase = phase;
                     scene.module_decision = decision;
+                    scene.requested = requested;
                     scene.geometry = geometry;
                     scene.age_ms = 0;
                 }
@@ -388,6 +418,7 @@ impl State {
         id: SceneId,
         module: Module,
         decision: Decision,
+        requested: bool,
         geometry: Geometry,
     ) -> Result<Plan<'static>, Rejection> {
         // [COOP-REG-RETIRED.1]
@@ -425,6 +456,7 @@ impl State {
             phase: Phase::WaitingForExecution,
             module_decision: decision,
             operator_decision: OperatorDecision::Undecided,
+            requested,
             age_ms: 0,
             geometry,
         };
@@ -437,6 +469,7 @@ impl State {
         module: Module,
         phase: Phase,
         decision: Decision,
+        requested: bool,
         geometry: Geometry,
     ) -> Result<Plan<'static>, Rejection> {
         let scene = self.owned_scene(id, module)?;
@@ -473,6 +506,7 @@ impl State {
                 id,
                 phase,
                 decision,
+                requested,
                 geometry,
             },
         })

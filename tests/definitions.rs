@@ -116,6 +116,83 @@ fn coop_force_activated_1() {
     assert_eq!(state.force_activated(id(9)), None);
 }
 
+/// `[COOP-REQUESTED.1]`: a requested scene is held back while undecided, whatever its module's
+/// policy; an explicit operator decision is followed; other scenes and the policy are untouched;
+/// an operator activation of a requested scene is forced even when the module agrees.
+#[test]
+fn coop_requested_1() {
+    let mut state = with_scenes();
+    let (one, two) = (id(1), id(2));
+    assert_eq!(state.policy(LANE_CHANGE), Some(Policy::Optional));
+    let activate = |requested| {
+        update_requested(
+            one,
+            LANE_CHANGE,
+            Phase::Running,
+            Decision::Activate,
+            requested,
+        )
+    };
+    fires(&mut state, activate(false), Rule::OwnerUpdate);
+    assert_eq!(state.merged_decision(one), Some(Decision::Activate));
+    fires(&mut state, activate(true), Rule::OwnerUpdate);
+    assert!(state.scene(one).is_some_and(Scene::is_requested));
+    assert_eq!(
+        state.merged_decision(one),
+        Some(Decision::Deactivate),
+        "held for the operator"
+    );
+    assert_eq!(
+        state.policy(LANE_CHANGE),
+        Some(Policy::Optional),
+        "policy untouched"
+    );
+    assert_eq!(state.force_activated(one), Some(false));
+    fires(
+        &mut state,
+        commands(&[(one, OperatorDecision::Autonomous)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(
+        state.merged_decision(one),
+        Some(Decision::Activate),
+        "autonomous follows the module"
+    );
+    fires(
+        &mut state,
+        commands(&[(one, OperatorDecision::Activate)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(state.merged_decision(one), Some(Decision::Activate));
+    assert_eq!(
+        state.force_activated(one),
+        Some(true),
+        "activation of a requested scene is forced"
+    );
+    fires(
+        &mut state,
+        commands(&[(one, OperatorDecision::Undecided)]),
+        Rule::CommandApply,
+    );
+    assert_eq!(state.merged_decision(one), Some(Decision::Deactivate));
+    // The next update without the request lets the policy apply again.
+    fires(&mut state, activate(false), Rule::OwnerUpdate);
+    assert_eq!(state.merged_decision(one), Some(Decision::Activate));
+    // A registration can carry the request from the start.
+    let three = id(3);
+    let register = Input::Register {
+        id: three,
+        module: LANE_CHANGE,
+        decision: Decision::Activate,
+        requested: true,
+        geometry: Geometry::velocity(1.0),
+    };
+    fires(&mut state, register, Rule::RegisterNew);
+    assert_eq!(state.merged_decision(three), Some(Decision::Deactivate));
+    let other = state.scene(two).map(Scene::is_requested);
+    assert_eq!(other, Some(false), "other scenes unaffected");
+}
+
 /// `[COOP-FORCE-DEACTIVATED.1]`: operator deactivate over a module activate, while running.
 #[test]
 fn coop_force_deactivated_1() {
@@ -209,6 +286,7 @@ fn coop_out_order_1() {
             id: id(n),
             module: LANE_CHANGE,
             decision: Decision::Activate,
+            requested: false,
             geometry: Geometry::velocity(distance),
         };
         fires(&mut state, input, Rule::RegisterNew);
@@ -218,6 +296,7 @@ fn coop_out_order_1() {
             id: id(n),
             module: AVOIDANCE,
             decision: Decision::Activate,
+            requested: false,
             geometry: Geometry::steering(Direction::Right, start, start + 20.0),
         };
         fires(&mut state, input, Rule::RegisterNew);

@@ -342,6 +342,7 @@ fn coop_dev_order_1() {
             id: id(n),
             module: LANE_CHANGE,
             decision: Decision::Activate,
+            requested: false,
             geometry: Geometry::velocity(distance),
         };
         fires(&mut state, input, Rule::RegisterNew);

@@ -40,10 +40,10 @@ fn any_geometry() -> impl Strategy<Value = Geometry> {
 
 fn any_input() -> impl Strategy<Value = Input> {
     prop_oneof![
-        3 => (any_id(), any_module(), any_decision(), any_geometry())
-            .prop_map(|(id, module, decision, geometry)| Input::Register { id, module, decision, geometry }),
-        4 => (any_id(), any_module(), any_phase(), any_decision(), any_geometry())
-            .prop_map(|(id, module, phase, decision, geometry)| Input::Update { id, module, phase, decision, geometry }),
+        3 => (any_id(), any_module(), any_decision(), any::<bool>(), any_geometry())
+            .prop_map(|(id, module, decision, requested, geometry)| Input::Register { id, module, decision, requested, geometry }),
+        4 => (any_id(), any_module(), any_phase(), any_decision(), any::<bool>(), any_geometry())
+            .prop_map(|(id, module, phase, decision, requested, geometry)| Input::Update { id, module, phase, decision, requested, geometry }),
         1 => (any_id(), any_module()).prop_map(|(id, module)| Input::Remove { id, module }),
         3 => proptest::collection::vec((any_id(), any_operator()).prop_map(|(id, decision)| Command { id, decision }), 0..6)
             .prop_map(|commands| Input::SetCommands { commands }),

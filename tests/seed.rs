@@ -52,6 +52,7 @@ fn seed_sequence_11_steps() {
         id: scene,
         module: LANE_CHANGE,
         decision: Decision::Deactivate,
+        requested: false,
         geometry,
     };
     fires(&mut state, input, Rule::RegisterNew);
@@ -91,6 +92,7 @@ fn seed_sequence_11_steps() {
         module: LANE_CHANGE,
         phase: Phase::WaitingForExecution,
         decision: Decision::Deactivate,
+        requested: false,
         geometry,
     };
     fires(&mut state, update, Rule::OwnerUpdate);

@@ -22,6 +22,7 @@ fn scene_in(phase: Phase) -> Option<State> {
             id: ID,
             module: MODULE,
             decision: Decision::Activate,
+            requested: false,
             geometry,
         })
         .ok()?;
@@ -37,6 +38,7 @@ fn scene_in(phase: Phase) -> Option<State> {
             module: MODULE,
             phase: *step,
             decision: Decision::Activate,
+            requested: false,
             geometry,
         };
         state.apply(&update).ok()?;
@@ -60,6 +62,7 @@ pub fn lifecycle() -> String {
                 module: MODULE,
                 phase: to,
                 decision: Decision::Activate,
+                requested: false,
                 geometry,
             };
             match state.after(&update).map(|(_, t)| t.rule) {

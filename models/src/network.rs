@@ -169,6 +169,7 @@ impl NetworkModel {
                 id,
                 module: MODULE,
                 decision,
+                requested: false,
                 geometry,
             });
             for phase in [Phase::Running, Phase::Succeeded] {
@@ -178,6 +179,7 @@ impl NetworkModel {
                     module: MODULE,
                     phase,
                     decision,
+                    requested: false,
                     geometry,
                 });
             }

@@ -547,6 +547,28 @@ fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
                     id,
                     module,
                     decision,
+                    requested: false,
+                    geometry: velocity,
+                });
+            }
+        }
+        // An owner asking for an operator decision (`[COOP-REQUESTED.1]`): registering so, and
+        // updating so while waiting or running; every other update withdraws the request.
+        for &module in &modules {
+            inputs.push(Input::Register {
+                id,
+                module,
+                decision: Decision::Activate,
+                requested: true,
+                geometry: velocity,
+            });
+            for phase in [Phase::WaitingForExecution, Phase::Running] {
+                inputs.push(Input::Update {
+                    id,
+                    module,
+                    phase,
+                    decision: Decision::Activate,
+                    requested: true,
                     geometry: velocity,
                 });
             }
@@ -559,6 +581,7 @@ fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
                         module,
                         phase,
                         decision,
+                        requested: false,
                         geometry: velocity,
                     });
                 }
@@ -571,6 +594,7 @@ fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
             module: first,
             phase: Phase::Running,
             decision: Decision::Activate,
+            requested: false,
             geometry: steering,
         });
         for decision in OperatorDecision::ALL {
@@ -681,6 +705,7 @@ fn observe(
                     let operator_moved = o.operator_decision() != n.operator_decision();
                     let rest_moved = o.phase() != n.phase()
                         || o.module_decision() != n.module_decision()
+                        || o.is_requested() != n.is_requested()
                         || o.age_ms() != n.age_ms()
                         || o.geometry() != n.geometry()
                         || o.module() != n.module();
@@ -808,10 +833,21 @@ impl Model for SequentialModel {
 
 type Condition = fn(&SequentialModel, &Step) -> bool;
 
+/// The policy `[COOP-MERGE.1]` applies to a scene: required if it is requested
+/// (`[COOP-REQUESTED.1]`), else its module's.
+fn policy_for(core: &State, scene: &cooperation::Scene) -> Option<Policy> {
+    let module = core.policy(scene.module())?;
+    Some(if scene.is_requested() {
+        Policy::Required
+    } else {
+        module
+    })
+}
+
 /// Every live scene's merged decision is the spec table's for its current values.
 fn merge_is_the_table(model: &SequentialModel, step: &Step) -> bool {
     step.core.scenes().all(|(id, scene)| {
-        let policy = step.core.policy(scene.module());
+        let policy = policy_for(&step.core, scene);
         let expected = policy.and_then(|policy| {
             model
                 .table
@@ -821,11 +857,12 @@ fn merge_is_the_table(model: &SequentialModel, step: &Step) -> bool {
     })
 }
 
-/// A required policy with no operator decision never activates.
+/// A required policy, or a request for the operator, with no operator decision never
+/// activates.
 fn required_none_never_activates(model: &SequentialModel, step: &Step) -> bool {
     step.core.scenes().all(|(id, scene)| {
         let held = scene.operator_decision() == OperatorDecision::Undecided
-            && step.core.policy(scene.module()) == Some(Policy::Required);
+            && (scene.is_requested() || step.core.policy(scene.module()) == Some(Policy::Required));
         !held || model.merged_decision(&step.core, id) == Some(Decision::Deactivate)
     })
 }
@@ -872,6 +909,16 @@ fn policy_holds_scene_back(model: &SequentialModel, step: &Step) -> bool {
     })
 }
 
+/// Witness: an owner's request holds back a scene whose module's policy is optional.
+fn request_holds_scene_back(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().any(|(id, scene)| {
+        scene.is_requested()
+            && step.core.policy(scene.module()) == Some(Policy::Optional)
+            && scene.module_decision() == Decision::Activate
+            && model.merged_decision(&step.core, id) == Some(Decision::Deactivate)
+    })
+}
+
 macro_rules! per_index {
     ($f:ident: $($i:literal)*) => { [$($f::<$i> as Condition),*] };
 }
@@ -884,7 +931,7 @@ fn always() -> Vec<(&'static str, Condition)> {
             merge_is_the_table,
         ),
         (
-            "COOP-MERGE.1: required with no operator decision never activates",
+            "COOP-MERGE.1, COOP-REQUESTED.1: required or requested with no operator decision never activates",
             required_none_never_activates,
         ),
         (
@@ -977,6 +1024,10 @@ pub fn properties() -> Vec<Property<SequentialModel>> {
     properties.push(Property::sometimes(
         "witness: a required policy holds a scene back",
         policy_holds_scene_back,
+    ));
+    properties.push(Property::sometimes(
+        "witness: an owner's request holds a scene back under an optional policy",
+        request_holds_scene_back,
     ));
     properties
 }

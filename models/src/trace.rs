@@ -360,6 +360,15 @@ pub fn short(id: SceneId) -> String {
     format!("#{value}")
 }
 
+/// How a trace says that an owner asks for an operator decision.
+const fn asks(requested: bool) -> &'static str {
+    if requested {
+        ", asks the operator"
+    } else {
+        ""
+    }
+}
+
 /// One input in words.
 #[must_use]
 pub fn describe(input: &Input) -> String {
@@ -368,11 +377,13 @@ pub fn describe(input: &Input) -> String {
             id,
             module,
             decision,
+            requested,
             geometry,
         } => {
             format!(
-                "owner registers {} for {module} ({decision}, {:?})",
+                "owner registers {} for {module} ({decision}{}, {:?})",
                 short(*id),
+                asks(*requested),
                 geometry.kind()
             )
         }
@@ -381,10 +392,12 @@ pub fn describe(input: &Input) -> String {
             module,
             phase,
             decision,
+            requested,
             geometry,
         } => format!(
-            "owner of {module} updates {}: {phase}, {decision} ({:?})",
+            "owner of {module} updates {}: {phase}, {decision}{} ({:?})",
             short(*id),
+            asks(*requested),
             geometry.kind()
         ),
         Input::Remove { id, module } => format!("owner of {module} removes {}", short(*id)),

@@ -41,6 +41,7 @@ pub fn register(id: SceneId, module: Module, decision: Decision) -> Input {
         id,
         module,
         decision,
+        requested: false,
         geometry: Geometry::velocity(10.0),
     }
 }
@@ -51,7 +52,36 @@ pub fn update(id: SceneId, module: Module, phase: Phase, decision: Decision) -> 
         module,
         phase,
         decision,
+        requested: false,
         geometry: Geometry::velocity(5.0),
+    }
+}
+
+/// `update`, with the owner asking for an operator decision or not (`[COOP-REQUESTED.1]`).
+pub fn update_requested(
+    id: SceneId,
+    module: Module,
+    phase: Phase,
+    decision: Decision,
+    requested: bool,
+) -> Input {
+    match update(id, module, phase, decision) {
+        Input::Update {
+            id,
+            module,
+            phase,
+            decision,
+            geometry,
+            ..
+        } => Input::Update {
+            id,
+            module,
+            phase,
+            decision,
+            requested,
+            geometry,
+        },
+        other => other,
     }
 }
 
