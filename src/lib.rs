@@ -59,6 +59,7 @@ mod output;
 mod phase;
 mod rejection;
 mod rule;
+mod shared;
 mod state;
 
 pub use decision::{merge, Decision, OperatorDecision, Policy};
@@ -75,6 +76,7 @@ pub use output::{
 pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};
 pub use rule::Rule;
+pub use shared::Shared;
 pub use state::{Config, ConfigError, Limits, Scene, State, Transition};
 
 pub mod guide {
