@@ -62,6 +62,8 @@ pub enum ErrorKind {
         /// serde_json's explanation, with its column.
         message: String,
     },
+    /// The line (or configuration file) is not a JSON object.
+    NotAnObject,
     /// A record with none of `at_ms`, `input`, `observed` and `config`.
     EmptyRecord,
     /// A record with two of `input`, `observed` and `config`, or `config` with another field.
@@ -126,6 +128,7 @@ impl fmt::Display for ErrorKind {
             Self::NotUtf8 => f.write_str("the line is not UTF-8"),
             Self::Json { field, message } if field.is_empty() => f.write_str(message),
             Self::Json { field, message } => write!(f, "field `{field}`: {message}"),
+            Self::NotAnObject => f.write_str("not a JSON object (`{...}`)"),
             Self::EmptyRecord => {
                 f.write_str("the record has none of `at_ms`, `input`, `observed` and `config`")
             }

@@ -111,10 +111,11 @@ fn from_json<'de, T: Deserialize<'de>>(text: &'de str, one_line: bool) -> Result
     Ok(value)
 }
 
-/// The path of a failing field; empty for the whole value (the library writes `.`).
+/// The path of a failing field; empty for the whole value (the library writes `.`) or when
+/// the error comes before any field is known (`?`, a key that is not a string).
 fn field_path(path: &serde_path_to_error::Path) -> String {
     let path = path.to_string();
-    if path == "." {
+    if path == "." || path == "?" {
         String::new()
     } else {
         path
@@ -154,6 +155,11 @@ fn within(prefix: &str, kind: ErrorKind) -> ErrorKind {
 /// A [`TraceError`] naming `line` and the field.
 pub fn parse_record(line: usize, text: &str) -> Result<Record, TraceError> {
     let at = |kind| TraceError::at(line, kind);
+    // serde would also read a struct from an array of its fields in order; a record is an
+    // object only.
+    if !text.starts_with('{') {
+        return Err(at(ErrorKind::NotAnObject));
+    }
     let raw: RawRecord = from_json(text, true).map_err(at)?;
     let ambiguous = |first, second| at(ErrorKind::Ambiguous { first, second });
     if let Some(config) = raw.config {
@@ -221,6 +227,9 @@ pub fn parse_status(value: &serde_json::Value) -> Result<CooperationStatus, Erro
 /// A [`TraceError`] without a line (a file's JSON errors carry their line and column in the
 /// message).
 pub fn parse_config(text: &str) -> Result<Config, TraceError> {
+    if !text.trim_start().starts_with('{') {
+        return Err(TraceError::nowhere(ErrorKind::NotAnObject));
+    }
     let raw: RawConfig =
         from_json(text, false).map_err(|kind| TraceError::nowhere(within("config", kind)))?;
     check_config(raw).map_err(TraceError::nowhere)
