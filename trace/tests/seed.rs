@@ -54,6 +54,7 @@ fn register(id: SceneId, decision: Decision, geometry: Geometry) -> Input {
         id,
         module: LANE_CHANGE,
         decision,
+        requested: false,
         geometry,
     }
 }
@@ -64,6 +65,7 @@ fn update(id: SceneId, phase: Phase, decision: Decision, geometry: Geometry) -> 
         module: LANE_CHANGE,
         phase,
         decision,
+        requested: false,
         geometry,
     }
 }
