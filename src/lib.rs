@@ -60,6 +60,8 @@ mod phase;
 mod rejection;
 mod rule;
 mod state;
+#[cfg(feature = "wire")]
+pub mod wire;
 
 pub use decision::{merge, Decision, OperatorDecision, Policy};
 pub use geometry::{
