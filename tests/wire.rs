@@ -148,6 +148,39 @@ fn an_empty_batch_succeeds_with_the_no_effect_warning() {
 }
 
 #[test]
+fn a_request_may_list_its_fields_in_order_as_rosbridge_args_may() {
+    let mut state = with_scenes();
+    let positional = format!("[[[{{\"uuid\": {}}}, [2]]]]", list(A));
+    let response = Service::SetCommands.call_json(&mut state, positional.as_bytes());
+    assert_eq!(
+        json(&response),
+        json(data("set_commands_response.json").as_bytes())
+    );
+    assert_eq!(state.merged_decision(A), Some(Decision::Activate));
+    // More values than fields is refused, and changes nothing.
+    let before = state.clone();
+    let fault = command_fault("[[], 5]");
+    assert!(matches!(fault, Malformed::Shape { .. }), "{fault:?}");
+    assert_eq!(
+        fault.to_string(),
+        "a list with more values than its field takes: trailing characters at line 1 column 6"
+    );
+    refused(&mut state, Service::SetCommands, "[[], 5]", &fault);
+    assert_eq!(state, before);
+    // So is a fixed-size array with too many values.
+    let text = br#"{"factors": [{"distance": [1, 2, 3]}]}"#;
+    let fault = wire::from_json::<wire::SteeringFactorArray>(text).expect_err("three distances");
+    assert!(matches!(fault, Malformed::Shape { .. }), "{fault:?}");
+    assert_eq!(fault.path().to_string(), "factors[0].distance");
+    let text = br#"{"factors": [{"distance": [1]}]}"#;
+    let fault = wire::from_json::<wire::SteeringFactorArray>(text).expect_err("one distance");
+    assert_eq!(
+        fault.to_string(),
+        "factors[0].distance: invalid length 1, expected an array of length 2 at line 1 column 29"
+    );
+}
+
+#[test]
 fn services_by_name() {
     for service in Service::ALL {
         assert_eq!(Service::from_name(service.name()), Some(service));

@@ -96,11 +96,23 @@ pub fn steering_factors(state: &State, stamp: Time) -> SteeringFactorArray {
 /// another shape; both name where the reader was.
 pub fn from_json<T: DeserializeOwned>(json: &[u8]) -> Result<T, Malformed> {
     let fault = |path: FieldPath, error: serde_json::Error| {
-        let detail = error.to_string();
         if error.is_data() {
-            Malformed::Shape { path, detail }
+            Malformed::Shape {
+                path,
+                detail: error.to_string(),
+            }
+        } else if serde_json::from_slice::<serde_json::Value>(json).is_ok() {
+            // The text is JSON (strings checked too), yet the reader met more than it expected:
+            // a list longer than the message or fixed-size array it stands for.
+            Malformed::Shape {
+                path,
+                detail: format!("a list with more values than its field takes: {error}"),
+            }
         } else {
-            Malformed::NotJson { path, detail }
+            Malformed::NotJson {
+                path,
+                detail: error.to_string(),
+            }
         }
     };
     let mut reader = serde_json::Deserializer::from_slice(json);
