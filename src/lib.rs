@@ -61,6 +61,8 @@ mod rejection;
 mod rule;
 mod shared;
 mod state;
+#[cfg(feature = "wire")]
+pub mod wire;
 
 pub use decision::{merge, Decision, OperatorDecision, Policy};
 pub use geometry::{
