@@ -98,25 +98,48 @@ const QUICK: &[Config] = &[
     config("network", "2 ids", "BFS", &["--model", "network"]),
 ];
 
-/// The larger configurations `--full` adds.
+/// The larger configurations `--full` adds, on 2 threads, each stopped after `timeout_s`.
 const FULL: &[Config] = &[
-    config("sequential", "2 × 3", "BFS", &["--no-symmetry"]),
-    config("sequential", "3 × 3", "DFS, symmetry", &["--modules", "3"]),
-    config(
+    large("sequential", "2 × 3", "BFS", &["--no-symmetry"], 300),
+    large(
+        "sequential",
+        "3 × 3",
+        "DFS, symmetry",
+        &["--modules", "3"],
+        300,
+    ),
+    large(
         "network",
         "3 ids",
         "BFS",
         &["--model", "network", "--scenes", "3"],
+        300,
     ),
-    Config {
-        model: "sequential",
-        bounds: "3 × 4",
-        search: "DFS, symmetry",
-        args: &["--modules", "3", "--scenes", "4"],
-        threads: &[2],
-        timeout_s: Some(600),
-    },
+    large(
+        "sequential",
+        "3 × 4",
+        "DFS, symmetry",
+        &["--modules", "3", "--scenes", "4"],
+        600,
+    ),
 ];
+
+const fn large(
+    model: &'static str,
+    bounds: &'static str,
+    search: &'static str,
+    args: &'static [&'static str],
+    timeout_s: u64,
+) -> Config {
+    Config {
+        model,
+        bounds,
+        search,
+        args,
+        threads: &[2],
+        timeout_s: Some(timeout_s),
+    }
+}
 
 /// `reach [--full] [--write FILE]`.
 pub(crate) fn run(args: &[String]) -> Result<bool, String> {

@@ -1,0 +1,56 @@
+//! Hostile bytes into the AD API services, one call after another on one state: each
+//! newline-separated chunk is a call, its first byte choosing `set_commands`, `set_policies`,
+//! `get_policies`, or a core input in its serde form. No call may panic, every answer must be
+//! JSON, and the state must keep its invariants whatever was asked.
+#![no_main]
+
+use cooperation::wire::Service;
+use cooperation::{Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, SceneId, State};
+use libfuzzer_sys::fuzz_target;
+
+fn start() -> State {
+    let lane_change = Module::new(Behavior::LaneChange);
+    let avoidance = Module::new(Behavior::Avoidance);
+    let config = Config {
+        policies: [(lane_change, Policy::Optional), (avoidance, Policy::Required)].into(),
+        limits: Limits { ttl_ms: 1_000, max_scenes: 8, retired_capacity: 8, max_batch: 16 },
+    };
+    let Ok(mut state) = State::new(config) else { unreachable!("a valid configuration") };
+    for n in 1..=3u128 {
+        let register = Input::Register {
+            id: SceneId::from_u128(n),
+            module: if n % 2 == 0 { avoidance } else { lane_change },
+            decision: Decision::Activate,
+            requested: n == 3,
+            geometry: Geometry::velocity(n as f32),
+        };
+        assert!(state.apply(&register).is_ok());
+    }
+    state
+}
+
+fuzz_target!(|data: &[u8]| {
+    let mut state = start();
+    for chunk in data.split(|b| *b == b'\n') {
+        let Some((&selector, body)) = chunk.split_first() else { continue };
+        match selector % 4 {
+            3 => {
+                if let Ok(input) = serde_json::from_slice::<Input>(body) {
+                    let before = state.clone();
+                    if state.apply(&input).is_err() {
+                        assert_eq!(state, before, "a rejection changed the state");
+                    }
+                }
+            }
+            service => {
+                let service = Service::ALL[usize::from(service)];
+                let response = service.call_json(&mut state, body);
+                assert!(
+                    serde_json::from_slice::<serde_json::Value>(&response).is_ok(),
+                    "the answer is not JSON"
+                );
+            }
+        }
+        assert_eq!(state.check_invariants(), Ok(()));
+    }
+});
