@@ -58,6 +58,7 @@ mod module;
 mod output;
 mod phase;
 mod rejection;
+pub mod rtc;
 mod rule;
 mod state;
 
