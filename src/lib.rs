@@ -86,6 +86,9 @@ pub mod guide {
 
     #[doc = include_str!("../docs/guide-operator.md")]
     pub mod operator {}
+
+    #[doc = include_str!("../docs/rtc.md")]
+    pub mod rtc {}
 }
 
 /// The README's example, compiled and run as a doctest.
