@@ -145,7 +145,9 @@ fn upstream_unit_test_sequence() {
     );
 
     // Step 3. Remove. Upstream checks only registered = F. Same here; the identifier retires
-    // as removed, so it is not terminated (it neither succeeded nor failed).
+    // as removed, so it is not terminated (it neither succeeded nor failed). Upstream's
+    // unchecked RTC-enabled and terminated answers would be its auto-mode flag for the now
+    // unknown UUID; here RTC-enabled has no answer ([COOP-DEV-UNKNOWN-QUERY.1]).
     let removed = rtc
         .interface(&mut state, "TestRTC")
         .expect("bound")
@@ -155,7 +157,8 @@ fn upstream_unit_test_sequence() {
     assert_eq!(
         ask(&rtc, &state, first),
         answers(false, false, false, false, None, Some(false)),
-        "step 3: registered is false, as upstream"
+        "step 3: registered is false, as upstream; RTC-enabled None and terminated false \
+         [COOP-DEV-UNKNOWN-QUERY.1]"
     );
 
     // Step 4. Register with FAILED. Upstream registers the same UUID again, stored as waiting:
