@@ -60,7 +60,10 @@ mod phase;
 mod rejection;
 pub mod rtc;
 mod rule;
+mod shared;
 mod state;
+#[cfg(feature = "wire")]
+pub mod wire;
 
 pub use decision::{merge, Decision, OperatorDecision, Policy};
 pub use geometry::{
@@ -76,6 +79,7 @@ pub use output::{
 pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};
 pub use rule::Rule;
+pub use shared::Shared;
 pub use state::{Config, ConfigError, Limits, Scene, State, Transition};
 
 pub mod guide {

@@ -123,9 +123,8 @@ proptest! {
     }
 
     /// Only commands change operator decisions; only a policy change or a scene's own inputs
-    /// change a merged decision; a policy change alters exactly the undecided, unrequested scenes
-    /// of the named modules whose module decision is activate (a requested scene is held to
-    /// `required` whatever its module's policy, `[COOP-REQUESTED.1]`).
+    /// change a merged decision; a policy change alters exactly the undecided, unrequested
+    /// scenes of the named modules whose module decision is activate (`[COOP-REQUESTED.1]`).
     #[test]
     fn decisions_change_only_by_their_inputs(inputs in proptest::collection::vec(any_input(), 0..64)) {
         let mut state = state();
@@ -149,10 +148,7 @@ proptest! {
                 if named_module {
                     let undecided = scene.operator_decision() == OperatorDecision::Undecided;
                     let policy_moved = before.policy(scene.module()) != state.policy(scene.module());
-                    let expect_change = undecided
-                        && !scene.is_requested()
-                        && policy_moved
-                        && scene.module_decision() == Decision::Activate;
+                    let expect_change = undecided && policy_moved && !scene.is_requested() && scene.module_decision() == Decision::Activate;
                     prop_assert_eq!(changed, expect_change, "policy change at {}", id);
                 }
             }

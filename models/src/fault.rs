@@ -121,7 +121,7 @@ impl Fault {
             ) if !phase.is_terminal() => unretire(core, *id).and_then(|mut next| {
                 let scene = json!({
                     "module": retirement.module, "phase": phase, "module_decision": decision,
-                    "operator_decision": OperatorDecision::Undecided, "age_ms": 0, "geometry": geometry,
+                    "operator_decision": OperatorDecision::Undecided, "requested": false, "age_ms": 0, "geometry": geometry,
                 });
                 let id = json!(id);
                 next = edit(&next, |raw| push(raw, "/scenes", json!([id, scene])))?;

@@ -20,6 +20,7 @@ pub mod sequential;
 pub mod spec;
 pub mod trace;
 pub mod traceability;
+pub mod trivial;
 pub mod witnesses;
 
 pub use fault::Fault;

@@ -3,7 +3,8 @@
 //! ```text
 //! cooperation-models check   [--model sequential|network] [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
-//!                            [--fault NAME] [--out DIR]
+//!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
+//! cooperation-models reach   [--full] [--write FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
 //! cooperation-models replay  FILE
 //! ```
@@ -20,7 +21,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use cooperation_models::network::{COMMANDS_IN_FLIGHT, OPERATORS, STATUSES_IN_FLIGHT};
-use cooperation_models::run::{check, Settings, Strategy};
+use cooperation_models::run::{check_for, Settings, Strategy};
+use cooperation_models::trivial;
+
+mod reach;
 use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace};
 use stateright::Model;
 
@@ -31,6 +35,9 @@ const USAGE: &str = "usage:
   cooperation-models check   [--model sequential|network] [--modules M] [--scenes N]
                              [--live L] [--retired R] [--threads T] [--strategy dfs|bfs]
                              [--no-symmetry] [--fault NAME] [--out DIR]
+                             [--timeout SECONDS] [--summary]
+  cooperation-models check   --model trivial [--threads T] [--bytes B]
+  cooperation-models reach   [--full] [--write FILE]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
   cooperation-models diagrams [--check]
@@ -47,6 +54,7 @@ counterexamples saved under target/counterexamples. Faults (sensitivity tests): 
 enum Which {
     Sequential,
     Network,
+    Trivial,
 }
 
 struct Options {
@@ -56,6 +64,9 @@ struct Options {
     fault: Option<Fault>,
     out: PathBuf,
     address: String,
+    timeout: Option<std::time::Duration>,
+    summary: bool,
+    bytes: usize,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -71,10 +82,17 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut out = PathBuf::from("target/counterexamples");
     let mut address = "127.0.0.1:3000".to_owned();
     let mut which = Which::Sequential;
+    let mut timeout = None;
+    let mut summary = false;
+    let mut bytes = reach::TRIVIAL.bytes;
     let mut rest = args.iter();
     while let Some(flag) = rest.next() {
         if flag == "--no-symmetry" {
             settings.symmetry = false;
+            continue;
+        }
+        if flag == "--summary" {
+            summary = true;
             continue;
         }
         let value = rest.next().ok_or_else(|| format!("{flag} needs a value"))?;
@@ -101,12 +119,19 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 fault = Some(found.ok_or_else(|| format!("no fault is named {value:?}"))?);
             }
             "--out" => out = PathBuf::from(value),
+            "--bytes" => bytes = number()?,
+            "--timeout" => {
+                timeout = Some(std::time::Duration::from_secs(number()? as u64));
+            }
             "--model" => {
                 which = match value.as_str() {
                     "sequential" => Which::Sequential,
                     "network" => Which::Network,
+                    "trivial" => Which::Trivial,
                     other => {
-                        return Err(format!("--model is sequential or network, not {other:?}"))
+                        return Err(format!(
+                            "--model is sequential, network or trivial, not {other:?}"
+                        ))
                     }
                 }
             }
@@ -141,6 +166,9 @@ fn parse(args: &[String]) -> Result<Options, String> {
         fault,
         out,
         address,
+        timeout,
+        summary,
+        bytes,
     })
 }
 
@@ -153,8 +181,10 @@ fn model(options: &Options) -> Result<SequentialModel, String> {
 }
 
 fn run_check(options: &Options) -> Result<bool, String> {
-    if options.which == Which::Network {
-        return run_network(options);
+    match options.which {
+        Which::Network => return run_network(options),
+        Which::Trivial => return run_trivial(options),
+        Which::Sequential => {}
     }
     let model = model(options)?;
     let Bounds {
@@ -180,8 +210,71 @@ fn run_check(options: &Options) -> Result<bool, String> {
             .fault
             .map_or(String::new(), |f| format!(", injected fault {f:?}"))
     );
-    let report = check(&model, options.settings, &mut std::io::stderr());
+    let report = check_for(
+        &model,
+        options.settings,
+        options.timeout,
+        &mut std::io::stderr(),
+    );
+    summarise(
+        options,
+        report.unique,
+        report.generated,
+        report.elapsed,
+        report.complete,
+    );
     present(&report, &options.out)
+}
+
+/// With `--summary`, one JSON line for `reach`: counts, time, completion and peak memory.
+fn summarise(
+    options: &Options,
+    unique: usize,
+    generated: usize,
+    elapsed: std::time::Duration,
+    complete: bool,
+) {
+    if options.summary {
+        let summary = reach::Summary {
+            unique,
+            generated,
+            seconds: elapsed.as_secs_f64(),
+            complete,
+            peak_rss_bytes: reach::peak_rss_bytes(),
+        };
+        println!("summary: {}", serde_json::json!(summary));
+    }
+}
+
+fn run_trivial(options: &Options) -> Result<bool, String> {
+    let model = trivial::TrivialModel {
+        bytes: options.bytes,
+        ..reach::TRIVIAL
+    };
+    println!(
+        "trivial model: {} counters of {} values in a {}-byte state ({} states), breadth first, \
+         {} thread(s)",
+        model.digits,
+        model.base,
+        model.bytes,
+        model.states(),
+        options.settings.threads
+    );
+    let result = trivial::run(model, options.settings.threads);
+    println!(
+        "{} unique states, {} generated, {:.1} s",
+        result.unique,
+        result.generated,
+        result.elapsed.as_secs_f64()
+    );
+    summarise(
+        options,
+        result.unique,
+        result.generated,
+        result.elapsed,
+        result.complete,
+    );
+    Ok(result.complete && result.unique as u128 == model.states())
 }
 
 fn run_network(options: &Options) -> Result<bool, String> {
@@ -212,7 +305,14 @@ fn run_network(options: &Options) -> Result<bool, String> {
             .fault
             .map_or(String::new(), |f| format!(", injected fault {f:?}"))
     );
-    let report = check(&model, settings, &mut std::io::stderr());
+    let report = check_for(&model, settings, options.timeout, &mut std::io::stderr());
+    summarise(
+        options,
+        report.unique,
+        report.generated,
+        report.elapsed,
+        report.complete,
+    );
     present(&report, &options.out)
 }
 
@@ -352,6 +452,7 @@ fn main() -> ExitCode {
     let usage = format!("{USAGE}{}", faults.join(", "));
     let result = match args.split_first() {
         Some((command, rest)) if command == "check" => parse(rest).and_then(|o| run_check(&o)),
+        Some((command, rest)) if command == "reach" => reach::run(rest),
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
         Some((command, [file])) if command == "replay" => replay(file),
         Some((command, rest)) if command == "diagrams" => diagrams(rest),

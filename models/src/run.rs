@@ -186,8 +186,28 @@ where
     M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
     M::Action: Debug + Clone + PartialEq + Send + Sync,
 {
+    check_for(model, settings, None, progress)
+}
+
+/// [`check`], giving up after `limit` (the report then says the search did not complete, and
+/// what it reached by then).
+pub fn check_for<M>(
+    model: &M,
+    settings: Settings,
+    limit: Option<Duration>,
+    progress: &mut (impl Write + Send),
+) -> Report
+where
+    M: Checkable,
+    M::State: Hash + Debug + Clone + PartialEq + Send + Sync + Representative,
+    M::Action: Debug + Clone + PartialEq + Send + Sync,
+{
     let start = Instant::now();
     let builder = model.clone().checker().threads(settings.threads.max(1));
+    let builder = match limit {
+        Some(limit) => builder.timeout(limit),
+        None => builder,
+    };
     let builder = if settings.symmetry {
         builder.symmetry()
     } else {

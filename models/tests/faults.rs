@@ -25,7 +25,7 @@ fn expected(fault: Fault) -> (&'static str, Bounds) {
     };
     match fault {
         Fault::RequiredAsOptional => (
-            "COOP-MERGE.1: required with no operator decision never activates",
+            "COOP-MERGE.1, COOP-REQUESTED.1: required or requested with no operator decision never activates",
             small,
         ),
         Fault::OperatorDeactivateIgnored => {

@@ -1,0 +1,228 @@
+//! `reach`: how far the exhaustive check gets, configuration by configuration, with the
+//! checker's raw throughput on a trivial model beside it.
+//!
+//! Each configuration runs as its own child process (`check ... --summary`), so that its peak
+//! memory is its own.
+
+use std::path::Path;
+use std::process::Command;
+
+use cooperation_models::trivial::TrivialModel;
+
+/// The trivial model `reach` measures: 7^8 = 5,764,801 states, about as many as the CI
+/// configuration, each a 2 KiB state, about a core state's heap size with two live scenes.
+pub(crate) const TRIVIAL: TrivialModel = TrivialModel {
+    digits: 8,
+    base: 7,
+    bytes: 2048,
+};
+
+/// What one check came to, as `check --summary` prints it.
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
+pub(crate) struct Summary {
+    pub(crate) unique: usize,
+    pub(crate) generated: usize,
+    pub(crate) seconds: f64,
+    pub(crate) complete: bool,
+    pub(crate) peak_rss_bytes: Option<u64>,
+}
+
+/// This process's peak resident memory (`VmHWM`), where the system tells it.
+pub(crate) fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// One row of the table.
+struct Config {
+    model: &'static str,
+    bounds: &'static str,
+    search: &'static str,
+    args: &'static [&'static str],
+    threads: &'static [usize],
+    timeout_s: Option<u64>,
+}
+
+const fn config(
+    model: &'static str,
+    bounds: &'static str,
+    search: &'static str,
+    args: &'static [&'static str],
+) -> Config {
+    Config {
+        model,
+        bounds,
+        search,
+        args,
+        threads: &[1, 2],
+        timeout_s: None,
+    }
+}
+
+/// The default table: every configuration CI checks, and the trivial model.
+const QUICK: &[Config] = &[
+    config(
+        "trivial",
+        "7^8 counters, 64 B",
+        "BFS",
+        &["--model", "trivial", "--bytes", "64"],
+    ),
+    config(
+        "trivial",
+        "7^8 counters, 2 KiB",
+        "BFS",
+        &["--model", "trivial"],
+    ),
+    config(
+        "sequential",
+        "1 × 2",
+        "DFS, symmetry",
+        &["--modules", "1", "--scenes", "2"],
+    ),
+    config(
+        "sequential",
+        "1 × 2",
+        "BFS",
+        &["--modules", "1", "--scenes", "2", "--no-symmetry"],
+    ),
+    config("sequential", "2 × 2", "DFS, symmetry", &["--scenes", "2"]),
+    config(
+        "sequential",
+        "2 × 2",
+        "BFS",
+        &["--scenes", "2", "--no-symmetry"],
+    ),
+    config("sequential", "2 × 3 (CI)", "DFS, symmetry", &[]),
+    config("network", "2 ids", "BFS", &["--model", "network"]),
+];
+
+/// The larger configurations `--full` adds.
+const FULL: &[Config] = &[
+    config("sequential", "2 × 3", "BFS", &["--no-symmetry"]),
+    config("sequential", "3 × 3", "DFS, symmetry", &["--modules", "3"]),
+    config(
+        "network",
+        "3 ids",
+        "BFS",
+        &["--model", "network", "--scenes", "3"],
+    ),
+    Config {
+        model: "sequential",
+        bounds: "3 × 4",
+        search: "DFS, symmetry",
+        args: &["--modules", "3", "--scenes", "4"],
+        threads: &[2],
+        timeout_s: Some(600),
+    },
+];
+
+/// `reach [--full] [--write FILE]`.
+pub(crate) fn run(args: &[String]) -> Result<bool, String> {
+    let mut full = false;
+    let mut write = None;
+    let mut rest = args.iter();
+    while let Some(flag) = rest.next() {
+        match flag.as_str() {
+            "--full" => full = true,
+            "--write" => write = Some(rest.next().ok_or("--write needs a file")?.clone()),
+            other => return Err(format!("unknown option {other:?}")),
+        }
+    }
+    let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
+    let configs = QUICK.iter().chain(if full { FULL } else { &[] });
+    let mut table = String::from(
+        "| model | bounds (modules × ids) | search | threads | unique states | generated | \
+         time | unique/s | generated/s | peak RSS | bytes/unique state | complete |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for config in configs {
+        for &threads in config.threads {
+            let mut command = Command::new(&exe);
+            command.arg("check").args(config.args);
+            command.args(["--threads", &threads.to_string(), "--summary"]);
+            if let Some(timeout) = config.timeout_s {
+                command.args(["--timeout", &timeout.to_string()]);
+            }
+            eprintln!(
+                "reach: {} {} {}, {threads} thread(s)",
+                config.model, config.bounds, config.search
+            );
+            let output = command
+                .stderr(std::process::Stdio::inherit())
+                .output()
+                .map_err(|e| format!("cannot run the check: {e}"))?;
+            let stdout = String::from_utf8_lossy(&output.stdout);
+            let summary: Summary = stdout
+                .lines()
+                .find_map(|l| l.strip_prefix("summary: "))
+                .ok_or_else(|| format!("the check printed no summary:\n{stdout}"))
+                .and_then(|json| serde_json::from_str(json).map_err(|e| e.to_string()))?;
+            let row = row(config, threads, &summary);
+            eprint!("{row}");
+            table += &row;
+        }
+    }
+    println!("{table}");
+    if let Some(file) = write {
+        splice(Path::new(&file), &table)?;
+        println!("wrote {file}");
+    }
+    Ok(true)
+}
+
+fn row(config: &Config, threads: usize, s: &Summary) -> String {
+    let rate = |n: usize| n as f64 / s.seconds.max(1e-9);
+    let (rss, per_state) = match s.peak_rss_bytes {
+        Some(bytes) => (
+            format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0)),
+            format!("{:.0}", bytes as f64 / s.unique.max(1) as f64),
+        ),
+        None => ("—".to_owned(), "—".to_owned()),
+    };
+    format!(
+        "| {} | {} | {} | {threads} | {} | {} | {:.1} s | {} | {} | {rss} | {per_state} | {} |\n",
+        config.model,
+        config.bounds,
+        config.search,
+        thousands(s.unique),
+        thousands(s.generated),
+        s.seconds,
+        thousands(rate(s.unique) as usize),
+        thousands(rate(s.generated) as usize),
+        if s.complete {
+            "yes".to_owned()
+        } else {
+            format!("no (stopped at {} s)", config.timeout_s.unwrap_or_default())
+        }
+    )
+}
+
+fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Replaces the text between `<!-- generated: reach -->` and the next `<!-- end generated -->`.
+fn splice(file: &Path, table: &str) -> Result<(), String> {
+    const START: &str = "<!-- generated: reach -->";
+    const END: &str = "<!-- end generated -->";
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let start = text
+        .find(START)
+        .ok_or_else(|| format!("{}: no {START} marker", file.display()))?;
+    let end = text[start..]
+        .find(END)
+        .map(|i| start + i)
+        .ok_or_else(|| format!("{}: no {END} after {START}", file.display()))?;
+    let new = format!("{}{START}\n{table}{}", &text[..start], &text[end..]);
+    std::fs::write(file, new).map_err(|e| format!("{}: {e}", file.display()))
+}

@@ -1,0 +1,711 @@
+//! Property tests of the wire module: every message survives JSON; conversions into the core
+//! and back are exact where both sides can hold the value; the handlers answer every request,
+//! well-formed or not, as the core would, and never panic on any bytes.
+
+mod wire_fixtures;
+
+use std::fmt::Debug;
+
+use cooperation::wire::{self, Malformed, Service};
+use cooperation::*;
+use proptest::prelude::*;
+use proptest::sample::select;
+use serde::{de::DeserializeOwned, Serialize};
+use wire_fixtures::*;
+
+// -------------------------------------------------------------------------------------------
+// Strategies: messages as anything may send them
+// -------------------------------------------------------------------------------------------
+
+/// Every finite `f64`, signed zeros and subnormals included: what JSON can carry.
+fn finite_f64() -> impl Strategy<Value = f64> {
+    use proptest::num::f64::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+    POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO
+}
+
+fn finite_f32() -> impl Strategy<Value = f32> {
+    use proptest::num::f32::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+    POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO
+}
+
+/// Behaviour and sequence strings: the known ones, near misses, and anything.
+fn name() -> impl Strategy<Value = String> {
+    prop_oneof![
+        select(Behavior::ALL.map(Behavior::as_str).to_vec()).prop_map(str::to_owned),
+        select(Sequence::ALL.map(Sequence::as_str).to_vec()).prop_map(str::to_owned),
+        Just("emergency-operation".to_owned()),
+        "\\PC{0,12}",
+    ]
+}
+
+fn time() -> impl Strategy<Value = wire::Time> {
+    (any::<i32>(), any::<u32>()).prop_map(|(sec, nanosec)| wire::Time { sec, nanosec })
+}
+
+fn header() -> impl Strategy<Value = wire::Header> {
+    (time(), prop_oneof![Just("map".to_owned()), "\\PC{0,8}"])
+        .prop_map(|(stamp, frame_id)| wire::Header { stamp, frame_id })
+}
+
+fn point() -> impl Strategy<Value = wire::Point> {
+    (finite_f64(), finite_f64(), finite_f64()).prop_map(|(x, y, z)| wire::Point { x, y, z })
+}
+
+fn quaternion() -> impl Strategy<Value = wire::Quaternion> {
+    (finite_f64(), finite_f64(), finite_f64(), finite_f64())
+        .prop_map(|(x, y, z, w)| wire::Quaternion { x, y, z, w })
+}
+
+fn pose() -> impl Strategy<Value = wire::Pose> {
+    (point(), quaternion()).prop_map(|(position, orientation)| wire::Pose {
+        position,
+        orientation,
+    })
+}
+
+/// Mostly 16 bytes, sometimes not.
+fn uuid() -> impl Strategy<Value = wire::Uuid> {
+    prop_oneof![
+        4 => prop::array::uniform16(any::<u8>()).prop_map(|b| b.to_vec()),
+        1 => prop::collection::vec(any::<u8>(), 0..40),
+    ]
+    .prop_map(|uuid| wire::Uuid { uuid })
+}
+
+/// Mostly defined constants, sometimes any number.
+fn decision() -> impl Strategy<Value = wire::CooperationDecision> {
+    prop_oneof![4 => 0..=4u8, 1 => any::<u8>()]
+        .prop_map(|decision| wire::CooperationDecision { decision })
+}
+
+fn constant16() -> impl Strategy<Value = u16> {
+    prop_oneof![4 => 0..=3u16, 1 => any::<u16>()]
+}
+
+fn status() -> impl Strategy<Value = wire::CooperationStatus> {
+    (uuid(), decision(), decision(), any::<bool>()).prop_map(
+        |(uuid, autonomous, cooperator, cancellable)| wire::CooperationStatus {
+            uuid,
+            autonomous,
+            cooperator,
+            cancellable,
+        },
+    )
+}
+
+fn command() -> impl Strategy<Value = wire::CooperationCommand> {
+    (uuid(), decision())
+        .prop_map(|(uuid, cooperator)| wire::CooperationCommand { uuid, cooperator })
+}
+
+fn policy() -> impl Strategy<Value = wire::CooperationPolicy> {
+    (name(), name(), prop_oneof![4 => 0..=2u8, 1 => any::<u8>()]).prop_map(
+        |(behavior, sequence, policy)| wire::CooperationPolicy {
+            behavior,
+            sequence,
+            policy,
+        },
+    )
+}
+
+fn cooperation() -> impl Strategy<Value = Vec<wire::CooperationStatus>> {
+    prop_oneof![4 => prop::collection::vec(status(), 1..=1), 1 => prop::collection::vec(status(), 0..3)]
+}
+
+fn velocity_factor() -> impl Strategy<Value = wire::VelocityFactor> {
+    (
+        pose(),
+        finite_f32(),
+        constant16(),
+        name(),
+        name(),
+        "\\PC{0,8}",
+        cooperation(),
+    )
+        .prop_map(
+            |(pose, distance, status, behavior, sequence, detail, cooperation)| {
+                wire::VelocityFactor {
+                    pose,
+                    distance,
+                    status,
+                    behavior,
+                    sequence,
+                    detail,
+                    cooperation,
+                }
+            },
+        )
+}
+
+fn steering_factor() -> impl Strategy<Value = wire::SteeringFactor> {
+    (
+        [pose(), pose()],
+        [finite_f32(), finite_f32()],
+        constant16(),
+        constant16(),
+        name(),
+        name(),
+        "\\PC{0,8}",
+        cooperation(),
+    )
+        .prop_map(
+            |(pose, distance, direction, status, behavior, sequence, detail, cooperation)| {
+                wire::SteeringFactor {
+                    pose,
+                    distance,
+                    direction,
+                    status,
+                    behavior,
+                    sequence,
+                    detail,
+                    cooperation,
+                }
+            },
+        )
+}
+
+fn velocity_array() -> impl Strategy<Value = wire::VelocityFactorArray> {
+    (header(), prop::collection::vec(velocity_factor(), 0..4))
+        .prop_map(|(header, factors)| wire::VelocityFactorArray { header, factors })
+}
+
+fn steering_array() -> impl Strategy<Value = wire::SteeringFactorArray> {
+    (header(), prop::collection::vec(steering_factor(), 0..4))
+        .prop_map(|(header, factors)| wire::SteeringFactorArray { header, factors })
+}
+
+fn response_status() -> impl Strategy<Value = wire::ResponseStatus> {
+    (
+        any::<bool>(),
+        prop_oneof![
+            Just(0u16),
+            50_000..=50_004u16,
+            60_000..=60_001u16,
+            any::<u16>()
+        ],
+        "\\PC{0,16}",
+    )
+        .prop_map(|(success, code, message)| wire::ResponseStatus {
+            success,
+            code,
+            message,
+        })
+}
+
+fn commands_request() -> impl Strategy<Value = wire::SetCooperationCommandsRequest> {
+    prop::collection::vec(command(), 0..6)
+        .prop_map(|commands| wire::SetCooperationCommandsRequest { commands })
+}
+
+fn policies_request() -> impl Strategy<Value = wire::SetCooperationPoliciesRequest> {
+    prop::collection::vec(policy(), 0..6)
+        .prop_map(|policies| wire::SetCooperationPoliciesRequest { policies })
+}
+
+// -------------------------------------------------------------------------------------------
+// Strategies: core values
+// -------------------------------------------------------------------------------------------
+
+fn scene_id() -> impl Strategy<Value = SceneId> {
+    any::<u128>().prop_map(SceneId::from_u128)
+}
+
+/// Any `f64` bit pattern: the core holds NaNs and infinities too.
+fn any_f64() -> impl Strategy<Value = f64> {
+    any::<u64>().prop_map(f64::from_bits)
+}
+
+fn any_distance() -> impl Strategy<Value = Distance> {
+    any::<u32>().prop_map(|bits| Distance(f32::from_bits(bits)))
+}
+
+fn core_pose() -> impl Strategy<Value = Pose> {
+    (
+        [any_f64(), any_f64(), any_f64()],
+        [any_f64(), any_f64(), any_f64(), any_f64()],
+    )
+        .prop_map(|(position, orientation)| Pose {
+            position,
+            orientation,
+        })
+}
+
+fn core_status() -> impl Strategy<Value = CooperationStatus> {
+    (
+        scene_id(),
+        select(Decision::ALL.to_vec()),
+        select(OperatorDecision::ALL.to_vec()),
+        any::<bool>(),
+    )
+        .prop_map(
+            |(id, module_decision, operator_decision, cancellable)| CooperationStatus {
+                id,
+                module_decision,
+                operator_decision,
+                cancellable,
+            },
+        )
+}
+
+fn module() -> impl Strategy<Value = Module> {
+    (
+        select(Behavior::ALL.to_vec()),
+        select(Sequence::ALL.to_vec()),
+    )
+        .prop_map(|(behavior, sequence)| Module { behavior, sequence })
+}
+
+fn core_velocity_factor() -> impl Strategy<Value = VelocityFactor> {
+    let status = prop_oneof![
+        Just(VelocityStatus::Unknown),
+        Just(VelocityStatus::Approaching),
+        Just(VelocityStatus::Stopped)
+    ];
+    (core_pose(), any_distance(), status, module(), core_status()).prop_map(
+        |(pose, distance, status, module, cooperation)| VelocityFactor {
+            pose,
+            distance,
+            status,
+            behavior: module.behavior,
+            sequence: module.sequence,
+            cooperation,
+        },
+    )
+}
+
+fn core_steering_factor() -> impl Strategy<Value = SteeringFactor> {
+    let direction = prop_oneof![
+        Just(Direction::Unknown),
+        Just(Direction::Left),
+        Just(Direction::Right),
+        Just(Direction::Straight)
+    ];
+    let status = prop_oneof![
+        Just(SteeringStatus::Unknown),
+        Just(SteeringStatus::Approaching),
+        Just(SteeringStatus::Turning)
+    ];
+    (
+        [core_pose(), core_pose()],
+        [any_distance(), any_distance()],
+        direction,
+        status,
+        module(),
+        core_status(),
+    )
+        .prop_map(
+            |(poses, distances, direction, status, module, cooperation)| SteeringFactor {
+                poses,
+                distances,
+                direction,
+                status,
+                behavior: module.behavior,
+                sequence: module.sequence,
+                cooperation,
+            },
+        )
+}
+
+// -------------------------------------------------------------------------------------------
+// JSON round trips of every message
+// -------------------------------------------------------------------------------------------
+
+fn json_round_trip<T: Serialize + DeserializeOwned + PartialEq + Debug>(
+    message: &T,
+) -> Result<(), TestCaseError> {
+    let text = wire::to_json(message);
+    let read = wire::from_json::<T>(&text);
+    prop_assert_eq!(
+        read.as_ref(),
+        Ok(message),
+        "{}",
+        String::from_utf8_lossy(&text)
+    );
+    Ok(())
+}
+
+proptest! {
+    #[test]
+    fn ros_shapes_survive_json(
+        time in time(),
+        header in header(),
+        point in point(),
+        quaternion in quaternion(),
+        pose in pose(),
+        uuid in uuid(),
+    ) {
+        json_round_trip(&time)?;
+        json_round_trip(&header)?;
+        json_round_trip(&point)?;
+        json_round_trip(&quaternion)?;
+        json_round_trip(&pose)?;
+        json_round_trip(&uuid)?;
+    }
+
+    #[test]
+    fn uuids_survive_json_in_base64(uuid in uuid()) {
+        let text = format!(r#"{{"uuid": "{}"}}"#, uuid.to_base64());
+        prop_assert_eq!(wire::from_json::<wire::Uuid>(text.as_bytes()), Ok(uuid.clone()));
+        let unpadded = format!(r#"{{"uuid": "{}"}}"#, uuid.to_base64().trim_end_matches('='));
+        prop_assert_eq!(wire::from_json::<wire::Uuid>(unpadded.as_bytes()), Ok(uuid));
+    }
+
+    #[test]
+    fn cooperation_messages_survive_json(
+        decision in decision(),
+        status in status(),
+        command in command(),
+        policy in policy(),
+        response in response_status(),
+    ) {
+        json_round_trip(&decision)?;
+        json_round_trip(&status)?;
+        json_round_trip(&command)?;
+        json_round_trip(&policy)?;
+        json_round_trip(&response)?;
+    }
+
+    #[test]
+    fn factor_messages_survive_json(
+        velocity in velocity_factor(),
+        steering in steering_factor(),
+        velocity_array in velocity_array(),
+        steering_array in steering_array(),
+    ) {
+        json_round_trip(&velocity)?;
+        json_round_trip(&steering)?;
+        json_round_trip(&velocity_array)?;
+        json_round_trip(&steering_array)?;
+    }
+
+    #[test]
+    fn service_messages_survive_json(
+        commands in commands_request(),
+        policies in policies_request(),
+        status in response_status(),
+        listed in prop::collection::vec(policy(), 0..4),
+    ) {
+        json_round_trip(&commands)?;
+        json_round_trip(&wire::SetCooperationCommandsResponse { status: status.clone() })?;
+        json_round_trip(&policies)?;
+        json_round_trip(&wire::SetCooperationPoliciesResponse { status: status.clone() })?;
+        json_round_trip(&wire::GetCooperationPoliciesRequest {})?;
+        json_round_trip(&wire::GetCooperationPoliciesResponse { status, policies: listed })?;
+    }
+}
+
+// -------------------------------------------------------------------------------------------
+// Conversions: core → wire → core is the identity; wire → core → wire is, where it parses
+// -------------------------------------------------------------------------------------------
+
+proptest! {
+    #[test]
+    fn core_values_survive_the_wire(
+        id in scene_id(),
+        decision in select(Decision::ALL.to_vec()),
+        operator in select(OperatorDecision::ALL.to_vec()),
+        module in module(),
+        policy in select(Policy::ALL.to_vec()),
+        status in core_status(),
+        pose in core_pose(),
+        velocity in core_velocity_factor(),
+        steering in core_steering_factor(),
+    ) {
+        prop_assert_eq!(SceneId::try_from(&wire::Uuid::from(id)), Ok(id));
+        prop_assert_eq!(Decision::try_from(wire::CooperationDecision::from(decision)), Ok(decision));
+        prop_assert_eq!(
+            OperatorDecision::try_from(wire::CooperationDecision::from(operator)),
+            Ok(operator)
+        );
+        let command = Command { id, decision: operator };
+        prop_assert_eq!(Command::try_from(&wire::CooperationCommand::from(command)), Ok(command));
+        let setting = PolicySetting { module, policy };
+        prop_assert_eq!(
+            PolicySetting::try_from(&wire::CooperationPolicy::from(setting)),
+            Ok(setting)
+        );
+        prop_assert_eq!(
+            CooperationStatus::try_from(&wire::CooperationStatus::from(status)),
+            Ok(status)
+        );
+        prop_assert_eq!(Pose::from(wire::Pose::from(pose)), pose);
+        // Factors compare by bit pattern, NaNs included.
+        prop_assert_eq!(
+            VelocityFactor::try_from(&wire::VelocityFactor::from(velocity)),
+            Ok(velocity)
+        );
+        prop_assert_eq!(
+            SteeringFactor::try_from(&wire::SteeringFactor::from(steering)),
+            Ok(steering)
+        );
+    }
+
+    #[test]
+    fn core_batches_survive_the_wire(
+        commands in prop::collection::vec(
+            (scene_id(), select(OperatorDecision::ALL.to_vec()))
+                .prop_map(|(id, decision)| Command { id, decision }),
+            0..8,
+        ),
+        settings in prop::collection::vec(
+            (module(), select(Policy::ALL.to_vec()))
+                .prop_map(|(module, policy)| PolicySetting { module, policy }),
+            0..8,
+        ),
+        velocity in prop::collection::vec(core_velocity_factor(), 0..4),
+        steering in prop::collection::vec(core_steering_factor(), 0..4),
+        stamp in time(),
+    ) {
+        let request: wire::SetCooperationCommandsRequest = commands.iter().copied().collect();
+        prop_assert_eq!(request.to_commands(), Ok(commands));
+        let request: wire::SetCooperationPoliciesRequest = settings.iter().copied().collect();
+        prop_assert_eq!(request.to_policies(), Ok(settings));
+        let header = wire::Header { stamp, frame_id: wire::FRAME_ID.to_owned() };
+        let array = wire::VelocityFactorArray {
+            header: header.clone(),
+            factors: velocity.iter().copied().map(Into::into).collect(),
+        };
+        prop_assert_eq!(array.to_factors(), Ok(velocity));
+        let array = wire::SteeringFactorArray {
+            header,
+            factors: steering.iter().copied().map(Into::into).collect(),
+        };
+        prop_assert_eq!(array.to_factors(), Ok(steering));
+    }
+
+    #[test]
+    fn wire_values_that_parse_come_back_unchanged(
+        uuid in uuid(),
+        decision in decision(),
+        status in status(),
+        command in command(),
+        policy in policy(),
+        velocity in velocity_factor(),
+        steering in steering_factor(),
+        response in response_status(),
+    ) {
+        // Each conversion accepts exactly its message's meaningful values...
+        prop_assert_eq!(SceneId::try_from(&uuid).is_ok(), uuid.uuid.len() == 16);
+        prop_assert_eq!(
+            OperatorDecision::try_from(decision).is_ok(),
+            (1..=4).contains(&decision.decision)
+        );
+        prop_assert_eq!(Decision::try_from(decision).is_ok(), (1..=2).contains(&decision.decision));
+        // ...and what it accepts, it gives back unchanged.
+        if let Ok(id) = SceneId::try_from(&uuid) {
+            prop_assert_eq!(wire::Uuid::from(id), uuid);
+        }
+        if let Ok(operator) = OperatorDecision::try_from(decision) {
+            prop_assert_eq!(wire::CooperationDecision::from(operator), decision);
+        }
+        if let Ok(module_decision) = Decision::try_from(decision) {
+            prop_assert_eq!(wire::CooperationDecision::from(module_decision), decision);
+        }
+        if let Ok(core) = CooperationStatus::try_from(&status) {
+            prop_assert_eq!(wire::CooperationStatus::from(core), status);
+        }
+        if let Ok(core) = Command::try_from(&command) {
+            prop_assert_eq!(wire::CooperationCommand::from(core), command);
+        }
+        match PolicySetting::try_from(&policy) {
+            Ok(core) => prop_assert_eq!(wire::CooperationPolicy::from(core), policy),
+            Err(fault) => prop_assert!(
+                !(1..=2).contains(&policy.policy)
+                    || policy.behavior.parse::<Behavior>().is_err()
+                    || policy.sequence.parse::<Sequence>().is_err(),
+                "{}", fault
+            ),
+        }
+        // Factors: all but `detail`, which the core does not hold.
+        if let Ok(core) = VelocityFactor::try_from(&velocity) {
+            prop_assert_eq!(
+                wire::VelocityFactor::from(core),
+                wire::VelocityFactor { detail: String::new(), ..velocity }
+            );
+        }
+        if let Ok(core) = SteeringFactor::try_from(&steering) {
+            prop_assert_eq!(
+                wire::SteeringFactor::from(core),
+                wire::SteeringFactor { detail: String::new(), ..steering }
+            );
+        }
+        let core = ResponseStatus::from(response.clone());
+        prop_assert_eq!(wire::ResponseStatus::from(core), response);
+    }
+}
+
+// -------------------------------------------------------------------------------------------
+// The handlers: exactly the core's answer for what parses, a PARAMETER_ERROR for the rest
+// -------------------------------------------------------------------------------------------
+
+/// A state with the fixtures' two scenes, one of them possibly no longer cancellable or
+/// retired, and possibly an operator decision on B.
+fn a_state() -> impl Strategy<Value = State> {
+    (0..4usize, any::<bool>()).prop_map(|(phase, decided)| {
+        let mut state = with_scenes();
+        let phases = [Phase::Running, Phase::Aborting, Phase::Failed];
+        for phase in phases.iter().take(phase) {
+            update(&mut state, A, *phase);
+        }
+        if decided {
+            let response = state.set_commands(vec![Command {
+                id: B,
+                decision: OperatorDecision::Activate,
+            }]);
+            assert!(response.status.success);
+        }
+        state
+    })
+}
+
+/// Commands that mostly name the fixtures' scenes.
+fn fixture_commands() -> impl Strategy<Value = wire::SetCooperationCommandsRequest> {
+    let uuid = prop_oneof![
+        3 => select(vec![A, B]).prop_map(wire::Uuid::from),
+        1 => uuid(),
+    ];
+    let command = (uuid, decision())
+        .prop_map(|(uuid, cooperator)| wire::CooperationCommand { uuid, cooperator });
+    prop::collection::vec(command, 0..=MAX_BATCH + 1)
+        .prop_map(|commands| wire::SetCooperationCommandsRequest { commands })
+}
+
+proptest! {
+    #[test]
+    fn set_commands_answers_as_the_core_or_names_the_fault(
+        mut state in a_state(),
+        request in fixture_commands(),
+    ) {
+        let before = state.clone();
+        let response = wire::set_commands(&mut state, &request);
+        match request.to_commands() {
+            Err(fault) => {
+                prop_assert_eq!(response.status, fault.to_status());
+                prop_assert_eq!(&state, &before);
+            }
+            Ok(commands) => {
+                let mut expected = before.clone();
+                let core = expected.set_commands(commands);
+                prop_assert_eq!(response.status, wire::ResponseStatus::from(core.status.clone()));
+                prop_assert_eq!(&state, &expected);
+                if !core.status.success {
+                    prop_assert_eq!(&state, &before);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn set_policies_answers_as_the_core_or_names_the_fault(
+        mut state in a_state(),
+        request in policies_request(),
+    ) {
+        let before = state.clone();
+        let response = wire::set_policies(&mut state, &request);
+        match request.to_policies() {
+            Err(fault) => {
+                prop_assert_eq!(response.status, fault.to_status());
+                prop_assert_eq!(&state, &before);
+            }
+            Ok(policies) => {
+                let mut expected = before.clone();
+                let core = expected.set_policies(policies);
+                prop_assert_eq!(response.status, wire::ResponseStatus::from(core.clone()));
+                prop_assert_eq!(&state, &expected);
+                if !core.success {
+                    prop_assert_eq!(&state, &before);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn get_policies_lists_the_cores_policies(state in a_state()) {
+        let response = wire::get_policies(&state, &wire::GetCooperationPoliciesRequest {});
+        prop_assert!(response.status.success);
+        let listed: Vec<PolicySetting> = response
+            .policies
+            .iter()
+            .map(|p| PolicySetting::try_from(p).unwrap())
+            .collect();
+        prop_assert_eq!(listed, state.policies().collect::<Vec<_>>());
+    }
+}
+
+// -------------------------------------------------------------------------------------------
+// JSON calls: no bytes make them panic, and a refusal changes nothing
+// -------------------------------------------------------------------------------------------
+
+/// Answers `request` to `service`, checking that the answer is the service's response message
+/// and that a refusal left the state as it was.
+fn call(state: &mut State, service: Service, request: &[u8]) -> Result<(), TestCaseError> {
+    let before = state.clone();
+    let response = service.call_json(state, request);
+    let status = match service {
+        Service::SetCommands => {
+            wire::from_json::<wire::SetCooperationCommandsResponse>(&response).map(|r| r.status)
+        }
+        Service::SetPolicies => {
+            wire::from_json::<wire::SetCooperationPoliciesResponse>(&response).map(|r| r.status)
+        }
+        Service::GetPolicies => {
+            wire::from_json::<wire::GetCooperationPoliciesResponse>(&response).map(|r| r.status)
+        }
+    };
+    let status: Result<wire::ResponseStatus, Malformed> = status;
+    let status = status.map_err(|e| TestCaseError::fail(format!("response unreadable: {e}")))?;
+    if status.success {
+        prop_assert!(status.code == 0 || status.code == wire::ResponseStatus::NO_EFFECT);
+    } else {
+        prop_assert_eq!(status.code, wire::ResponseStatus::PARAMETER_ERROR);
+        prop_assert!(!status.message.is_empty());
+        prop_assert_eq!(&*state, &before);
+    }
+    Ok(())
+}
+
+/// A JSON request, then perhaps damaged: cut short, a byte changed, or a byte inserted.
+fn damaged(json: Vec<u8>) -> impl Strategy<Value = Vec<u8>> {
+    let len = json.len();
+    (0..4u8, 0..=len, any::<u8>()).prop_map(move |(how, at, byte)| {
+        let mut bytes = json.clone();
+        match how {
+            0 => {}
+            1 => bytes.truncate(at),
+            2 => {
+                if let Some(b) = bytes.get_mut(at) {
+                    *b = byte;
+                }
+            }
+            _ => bytes.insert(at, byte),
+        }
+        bytes
+    })
+}
+
+proptest! {
+    #[test]
+    fn no_bytes_make_a_call_panic(
+        mut state in a_state(),
+        service in select(Service::ALL.to_vec()),
+        bytes in prop::collection::vec(any::<u8>(), 0..64),
+    ) {
+        call(&mut state, service, &bytes)?;
+    }
+
+    #[test]
+    fn damaged_requests_are_answered_and_refusals_change_nothing(
+        mut state in a_state(),
+        (service, bytes) in prop_oneof![
+            fixture_commands()
+                .prop_flat_map(|r| damaged(wire::to_json(&r)))
+                .prop_map(|b| (Service::SetCommands, b)),
+            policies_request()
+                .prop_flat_map(|r| damaged(wire::to_json(&r)))
+                .prop_map(|b| (Service::SetPolicies, b)),
+            damaged(b"{}".to_vec()).prop_map(|b| (Service::GetPolicies, b)),
+        ],
+    ) {
+        call(&mut state, service, &bytes)?;
+    }
+}
