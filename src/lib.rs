@@ -58,6 +58,7 @@ mod module;
 mod output;
 mod phase;
 mod rejection;
+pub mod rtc;
 mod rule;
 mod shared;
 mod state;
@@ -89,6 +90,9 @@ pub mod guide {
 
     #[doc = include_str!("../docs/guide-operator.md")]
     pub mod operator {}
+
+    #[doc = include_str!("../docs/rtc.md")]
+    pub mod rtc {}
 }
 
 /// The README's example, compiled and run as a doctest.

@@ -35,15 +35,23 @@ fn mentioned_tags(text: &str) -> BTreeSet<String> {
         .collect()
 }
 
+/// The text of every `.rs` file under `dir`, subdirectories included.
 fn read_dir(dir: &str) -> String {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
-    let mut text = String::new();
-    for entry in std::fs::read_dir(path).expect("directory") {
-        let path = entry.expect("entry").path();
-        if path.extension().is_some_and(|e| e == "rs") {
-            text += &std::fs::read_to_string(path).expect("readable");
+    fn walk(path: &std::path::Path, text: &mut String) {
+        for entry in std::fs::read_dir(path).expect("directory") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                walk(&path, text);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                *text += &std::fs::read_to_string(path).expect("readable");
+            }
         }
     }
+    let mut text = String::new();
+    walk(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir),
+        &mut text,
+    );
     text
 }
 

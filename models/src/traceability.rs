@@ -51,20 +51,32 @@ fn spec_tags(spec: &str) -> Vec<(String, u32, String)> {
     tags
 }
 
-/// The `.rs` files of a directory (not recursive), sorted, with their text.
+/// The `.rs` files under a directory, subdirectories included, sorted by their path relative
+/// to it (`state.rs`, `rtc/adapter.rs`), with their text.
 fn sources(dir: &Path) -> Vec<(String, String)> {
-    let mut files: Vec<(String, String)> = std::fs::read_dir(dir)
-        .into_iter()
-        .flatten()
-        .flatten()
-        .map(|entry| entry.path())
-        .filter(|path| path.extension().is_some_and(|e| e == "rs"))
-        .filter_map(|path| {
-            let text = std::fs::read_to_string(&path).ok()?;
-            let name = path.file_name()?.to_string_lossy().into_owned();
-            Some((name, text))
-        })
-        .collect();
+    fn walk(root: &Path, dir: &Path, files: &mut Vec<(String, String)>) {
+        for path in std::fs::read_dir(dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|entry| entry.path())
+        {
+            if path.is_dir() {
+                walk(root, &path, files);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let name = path
+                    .strip_prefix(root)
+                    .unwrap_or(&path)
+                    .to_string_lossy()
+                    .replace('\\', "/");
+                if let Ok(text) = std::fs::read_to_string(&path) {
+                    files.push((name, text));
+                }
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(dir, dir, &mut files);
     files.sort();
     files
 }

@@ -169,3 +169,27 @@ pub fn churn(state: &mut State, ids: std::ops::RangeInclusive<u128>) {
         );
     }
 }
+
+/// The standard RTC interfaces over a core that has every bound module, each with the policy
+/// upstream's `enable_rtc` flag stands for, and the default limits (a 10 s TTL, as upstream).
+pub fn rtc_setup(enable_rtc: bool) -> (rtc::Rtc, State) {
+    let rtc = rtc::Rtc::standard();
+    let state = State::new(Config::new(rtc.policies(enable_rtc))).expect("valid configuration");
+    (rtc, state)
+}
+
+/// A `CooperateCommands` request; each command's module is `NONE`, as a default-constructed
+/// upstream message has it.
+pub fn rtc_commands(list: &[(SceneId, u8)]) -> rtc::CooperateCommandsRequest {
+    rtc::CooperateCommandsRequest {
+        stamp: rtc::Time::default(),
+        commands: list
+            .iter()
+            .map(|&(id, command)| rtc::CooperateCommand {
+                uuid: id.into(),
+                module: rtc::Module::default(),
+                command: rtc::Command::new(command),
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,744 @@
+//! The RTC interfaces, answered from the core: every call converts its arguments, sends the core
+//! an input or asks it a query, and converts the answer back.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::{
+    Decision, Geometry, Input, Module, OperatorDecision, Phase, Policy, PolicySetting,
+    RetireReason, Scene, SceneId, Transition,
+};
+
+use super::binding::distances;
+use super::{
+    AutoModeRequest, AutoModeResponse, AutoModeStatus, AutoModeStatusArray,
+    AutoModeWithModuleRequest, AutoModeWithModuleResponse, Binding, Command,
+    CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse, CooperateStatus,
+    CooperateStatusArray, FieldError, RtcError, Time,
+};
+
+/// The policy an auto-mode switch stands for: on (scenes proceed without approval) is
+/// `optional`, off (they wait for the operator) is `required`.
+#[must_use]
+pub const fn policy_for_auto_mode(enable: bool) -> Policy {
+    if enable {
+        Policy::Optional
+    } else {
+        Policy::Required
+    }
+}
+
+/// A service's wire response together with what the core did: the transition, or the typed
+/// reason nothing changed. Upstream sends the response and logs the reason; here the caller
+/// gets both (`[COOP-DEV-SILENT-DROP.1]`).
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Reply<T> {
+    /// The response to send.
+    pub response: T,
+    /// The transition the call made, or why it made none.
+    pub result: Result<Transition, RtcError>,
+}
+
+/// The RTC interfaces of a planner, over a core [`State`](crate::State) that the caller owns.
+///
+/// It holds the interfaces' [`Binding`]s and, for each scene registered through one, which
+/// interface that was: routing, as upstream's separate per-interface registries route. It holds
+/// no decision, command, auto mode, phase or time: every answer is a core query and every
+/// change a core input.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Rtc {
+    bindings: Vec<Binding>,
+    /// The interface (index into `bindings`) each scene registered through. Entries for
+    /// identifiers the core no longer remembers are pruned when they could outnumber the live
+    /// and retired identifiers.
+    routes: BTreeMap<SceneId, usize>,
+}
+
+impl Default for Rtc {
+    /// [`Rtc::standard`].
+    fn default() -> Self {
+        Self::standard()
+    }
+}
+
+impl Rtc {
+    /// Interfaces with these bindings.
+    ///
+    /// # Errors
+    /// [`RtcError::DuplicateInterface`] if two bindings have the same name.
+    pub fn new(bindings: impl IntoIterator<Item = Binding>) -> Result<Self, RtcError> {
+        let bindings: Vec<Binding> = bindings.into_iter().collect();
+        let mut names = BTreeSet::new();
+        for binding in &bindings {
+            if !names.insert(binding.name.as_str()) {
+                return Err(RtcError::DuplicateInterface {
+                    name: binding.name.clone(),
+                });
+            }
+        }
+        Ok(Self {
+            bindings,
+            routes: BTreeMap::new(),
+        })
+    }
+
+    /// The interfaces of [`Binding::standard`].
+    #[must_use]
+    pub fn standard() -> Self {
+        Self {
+            bindings: Binding::standard(),
+            routes: BTreeMap::new(),
+        }
+    }
+
+    /// The bindings, in the order given.
+    #[must_use]
+    pub fn bindings(&self) -> &[Binding] {
+        &self.bindings
+    }
+
+    /// Every bound core module with the policy upstream's `enable_rtc` flag stands for: `false`
+    /// (auto mode on) is `optional`, `true` is `required`. For
+    /// [`Config::new`](crate::Config::new).
+    #[must_use]
+    pub fn policies(&self, enable_rtc: bool) -> BTreeMap<Module, Policy> {
+        self.bindings
+            .iter()
+            .map(|binding| (binding.module, policy_for_auto_mode(!enable_rtc)))
+            .collect()
+    }
+
+    /// The interface named `name`, to change the core through.
+    ///
+    /// # Errors
+    /// [`RtcError::UnknownInterface`] if no binding has the name (`[COOP-DEV-INTERFACE-NAME.1]`);
+    /// [`RtcError::Unconfigured`] if the core has no policy for its module.
+    pub fn interface<'a>(
+        &'a mut self,
+        state: &'a mut crate::State,
+        name: &str,
+    ) -> Result<Interface<'a>, RtcError> {
+        let Self { bindings, routes } = self;
+        let bindings: &'a [Binding] = bindings;
+        let (index, binding) = find(bindings, state, name)?;
+        Ok(Interface {
+            bindings,
+            binding,
+            index,
+            routes,
+            state,
+        })
+    }
+
+    /// The interface named `name`, to query.
+    ///
+    /// # Errors
+    /// As [`interface`](Self::interface).
+    pub fn view<'a>(&'a self, state: &'a crate::State, name: &str) -> Result<View<'a>, RtcError> {
+        let (index, binding) = find(&self.bindings, state, name)?;
+        Ok(View {
+            bindings: &self.bindings,
+            binding,
+            index,
+            routes: &self.routes,
+            state,
+        })
+    }
+
+    /// The binding of the interface a scene registered through, while the core remembers it.
+    #[must_use]
+    pub fn owner(&self, state: &crate::State, id: SceneId) -> Option<&Binding> {
+        let remembered = state.scene(id).is_some() || state.retirement(id).is_some();
+        let index = *self.routes.get(&id)?;
+        remembered.then(|| self.bindings.get(index)).flatten()
+    }
+
+    /// Time passed: the core's `Tick`. Upstream's `removeExpiredCooperateStatus` compares each
+    /// status's stamp with a clock; here the caller says how much time passed, and the
+    /// transition lists the scenes that expired (`[COOP-DEV-EXPIRY.1]`).
+    ///
+    /// # Errors
+    /// The core's rejection (a tick is never rejected today).
+    pub fn tick(
+        &mut self,
+        state: &mut crate::State,
+        elapsed_ms: u64,
+    ) -> Result<Transition, RtcError> {
+        let transition = state.apply(&Input::Tick { elapsed_ms })?;
+        prune(&mut self.routes, state);
+        Ok(transition)
+    }
+
+    /// The external API's `CooperateCommands` (upstream `/api/external/set/rtc_commands`), for
+    /// scenes of every interface: commands are matched by identifier and every command is
+    /// answered (`[COOP-DEV-ROUTING.1]`). The batch applies whole or not at all: each response
+    /// is `success = true` exactly when it applied (`[COOP-DEV-BATCH.1]`).
+    pub fn cooperate_commands(
+        &mut self,
+        state: &mut crate::State,
+        request: &CooperateCommandsRequest,
+    ) -> Reply<CooperateCommandsResponse> {
+        apply_commands(state, request, |_, _| Ok(()))
+    }
+
+    /// The external API's `AutoModeWithModule` (upstream `/api/external/set/rtc_auto_mode`):
+    /// the auto-mode switch of every interface whose statuses carry this module type, as the
+    /// policies of their core modules (`[COOP-DEV-ROUTING.1]`, `[COOP-DEV-AUTO-MODE-KEY.1]`).
+    pub fn auto_mode_with_module(
+        &mut self,
+        state: &mut crate::State,
+        request: &AutoModeWithModuleRequest,
+    ) -> Reply<AutoModeWithModuleResponse> {
+        let result = request
+            .module
+            .module_type()
+            .map_err(|e| RtcError::from(e.within("module")))
+            .and_then(|module_type| {
+                let modules: BTreeSet<Module> = self
+                    .bindings
+                    .iter()
+                    .filter(|binding| binding.module_type == module_type)
+                    .map(|binding| binding.module)
+                    .collect();
+                if modules.is_empty() {
+                    return Err(RtcError::NoInterface {
+                        module: module_type,
+                    });
+                }
+                set_auto_mode(state, modules, request.enable)
+            });
+        Reply {
+            response: AutoModeWithModuleResponse {
+                success: result.is_ok(),
+            },
+            result,
+        }
+    }
+
+    /// Every interface's live scenes as one array (upstream `/api/external/get/rtc_status`),
+    /// nearest start first, then by identifier (`[COOP-DEV-ORDER.1]`).
+    #[must_use]
+    pub fn cooperate_status_array(
+        &self,
+        state: &crate::State,
+        stamp: Time,
+    ) -> CooperateStatusArray {
+        let mut statuses: Vec<CooperateStatus> = state
+            .scenes()
+            .filter_map(|(id, scene)| {
+                let binding = self.bindings.get(*self.routes.get(&id)?)?;
+                Some(cooperate_status(binding, id, scene, state, stamp))
+            })
+            .collect();
+        statuses.sort_by(|a, b| {
+            a.start_distance
+                .total_cmp(&b.start_distance)
+                .then(a.uuid.cmp(&b.uuid))
+        });
+        CooperateStatusArray { stamp, statuses }
+    }
+
+    /// Every interface's auto-mode status, in binding order (upstream
+    /// `/api/external/get/rtc_auto_mode`).
+    #[must_use]
+    pub fn auto_mode_status_array(&self, state: &crate::State, stamp: Time) -> AutoModeStatusArray {
+        AutoModeStatusArray {
+            stamp,
+            statuses: self
+                .bindings
+                .iter()
+                .map(|binding| auto_mode_status(binding, state))
+                .collect(),
+        }
+    }
+}
+
+/// The binding named `name`, with its index, if the core has a policy for its module.
+fn find<'b>(
+    bindings: &'b [Binding],
+    state: &crate::State,
+    name: &str,
+) -> Result<(usize, &'b Binding), RtcError> {
+    // [COOP-DEV-INTERFACE-NAME.1]
+    let (index, binding) = bindings
+        .iter()
+        .enumerate()
+        .find(|(_, binding)| binding.name == name)
+        .ok_or_else(|| RtcError::UnknownInterface {
+            name: name.to_owned(),
+        })?;
+    if state.policy(binding.module).is_none() {
+        return Err(RtcError::Unconfigured {
+            name: binding.name.clone(),
+            module: binding.module,
+        });
+    }
+    Ok((index, binding))
+}
+
+/// Forgets the routes of identifiers the core no longer remembers, once they could outnumber
+/// the live and retired identifiers; so the routes never hold more than the core can remember
+/// plus one.
+fn prune(routes: &mut BTreeMap<SceneId, usize>, state: &crate::State) {
+    if routes.len() > state.scene_count() + state.limits().retired_capacity {
+        routes.retain(|id, _| state.scene(*id).is_some() || state.retirement(*id).is_some());
+    }
+}
+
+/// The core's `Register` for an RTC status report.
+fn register_input(
+    id: SceneId,
+    module: Module,
+    decision: Decision,
+    requested: bool,
+    geometry: Geometry,
+) -> Input {
+    Input::Register {
+        id,
+        module,
+        decision,
+        requested,
+        geometry,
+    }
+}
+
+/// The core's `Update` for an RTC status report.
+fn update_input(
+    id: SceneId,
+    module: Module,
+    phase: Phase,
+    decision: Decision,
+    requested: bool,
+    geometry: Geometry,
+) -> Input {
+    Input::Update {
+        id,
+        module,
+        phase,
+        decision,
+        requested,
+        geometry,
+    }
+}
+
+/// Parses a command request, checks each command's scene with `check`, and sends the batch to
+/// the core.
+fn apply_commands(
+    state: &mut crate::State,
+    request: &CooperateCommandsRequest,
+    check: impl Fn(&crate::State, SceneId) -> Result<(), RtcError>,
+) -> Reply<CooperateCommandsResponse> {
+    let result = request
+        .parse()
+        .map_err(RtcError::from)
+        .and_then(|commands| {
+            for command in &commands {
+                check(state, command.id)?;
+            }
+            // [COOP-DEV-BATCH.1] [COOP-DEV-DUPLICATE.1] [COOP-DEV-STORED-COMMANDS.1]
+            Ok(state.apply(&Input::SetCommands { commands })?)
+        });
+    let success = result.is_ok();
+    let responses = request
+        .commands
+        .iter()
+        .map(|command| CooperateResponse {
+            uuid: command.uuid,
+            module: command.module,
+            success,
+        })
+        .collect();
+    Reply {
+        response: CooperateCommandsResponse { responses },
+        result,
+    }
+}
+
+/// Sets the policies of `modules` to what the auto-mode switch stands for.
+fn set_auto_mode(
+    state: &mut crate::State,
+    modules: BTreeSet<Module>,
+    enable: bool,
+) -> Result<Transition, RtcError> {
+    let policies = modules
+        .into_iter()
+        .map(|module| PolicySetting {
+            module,
+            policy: policy_for_auto_mode(enable),
+        })
+        .collect();
+    // [COOP-DEV-POLICY-CLOBBER.1] [COOP-DEV-AUTO-MODE-KEY.1]
+    Ok(state.apply(&Input::SetPolicies { policies })?)
+}
+
+/// Upstream's `auto_mode` of a scene: it proceeds on the module's judgment, because the operator
+/// chose autonomous or has not decided under an optional policy. `requested` is a separate field,
+/// as upstream.
+fn auto_mode(scene: &Scene, state: &crate::State) -> bool {
+    match scene.operator_decision() {
+        OperatorDecision::Autonomous => true,
+        OperatorDecision::Undecided => state.policy(scene.module()) == Some(Policy::Optional),
+        OperatorDecision::Activate | OperatorDecision::Deactivate => false,
+    }
+}
+
+/// A live scene as an RTC status. The stamp is the owner's last report: `stamp` less the scene's
+/// age.
+fn cooperate_status(
+    binding: &Binding,
+    id: SceneId,
+    scene: &Scene,
+    state: &crate::State,
+    stamp: Time,
+) -> CooperateStatus {
+    let (start_distance, finish_distance) = distances(scene.geometry());
+    // [COOP-DEV-NONE.1]: an undecided (or autonomous) scene reports DEACTIVATE, upstream's
+    // initial command status.
+    let command = match scene.operator_decision() {
+        OperatorDecision::Activate => Decision::Activate,
+        _ => Decision::Deactivate,
+    };
+    CooperateStatus {
+        stamp: stamp.before_ms(scene.age_ms()),
+        uuid: id.into(),
+        module: binding.module_type.into(),
+        safe: scene.module_decision() == Decision::Activate,
+        requested: scene.is_requested(),
+        command_status: Command::from(command),
+        state: scene.phase().into(),
+        auto_mode: auto_mode(scene, state),
+        start_distance,
+        finish_distance,
+    }
+}
+
+fn auto_mode_status(binding: &Binding, state: &crate::State) -> AutoModeStatus {
+    AutoModeStatus {
+        module: binding.module_type.into(),
+        is_auto_mode: state.policy(binding.module) == Some(Policy::Optional),
+    }
+}
+
+/// One RTC interface, for queries. Made by [`Rtc::view`].
+#[derive(Clone, Copy, Debug)]
+pub struct View<'a> {
+    bindings: &'a [Binding],
+    binding: &'a Binding,
+    index: usize,
+    routes: &'a BTreeMap<SceneId, usize>,
+    state: &'a crate::State,
+}
+
+impl<'a> View<'a> {
+    /// The interface's binding.
+    #[must_use]
+    pub const fn binding(&self) -> &'a Binding {
+        self.binding
+    }
+
+    /// The live scene `id`, if it registered through this interface.
+    #[must_use]
+    pub fn scene(&self, id: SceneId) -> Option<&'a Scene> {
+        let scene = self.state.scene(id)?;
+        (self.routes.get(&id) == Some(&self.index)).then_some(scene)
+    }
+
+    /// `Ok` unless `id` is live but not this interface's (`[COOP-DEV-ID-REUSE.1]`). An identifier
+    /// that is not live is left to the core to judge.
+    fn check_owned(&self, id: SceneId) -> Result<(), RtcError> {
+        if self.state.scene(id).is_none() || self.scene(id).is_some() {
+            return Ok(());
+        }
+        let owner = self
+            .routes
+            .get(&id)
+            .and_then(|index| self.bindings.get(*index))
+            .map(|binding| binding.name.clone());
+        Err(RtcError::ForeignScene {
+            id,
+            interface: self.binding.name.clone(),
+            owner,
+        })
+    }
+
+    /// Upstream `isRegistered`: the scene is live and registered through this interface.
+    #[must_use]
+    pub fn is_registered(&self, id: SceneId) -> bool {
+        self.scene(id).is_some()
+    }
+
+    /// Upstream `isActivated`: the core's merged decision is activate. `false` for a scene
+    /// that is not live, as upstream.
+    #[must_use]
+    pub fn is_activated(&self, id: SceneId) -> bool {
+        self.scene(id).is_some() && self.state.merged_decision(id) == Some(Decision::Activate)
+    }
+
+    /// Upstream `isForceActivated`: the core's force-activated flag (`[COOP-DEV-FORCE.1]`).
+    #[must_use]
+    pub fn is_force_activated(&self, id: SceneId) -> bool {
+        self.scene(id).is_some_and(Scene::is_force_activated)
+    }
+
+    /// Upstream `isForceDeactivated`: the core's force-deactivated flag (`[COOP-DEV-FORCE.1]`).
+    #[must_use]
+    pub fn is_force_deactivated(&self, id: SceneId) -> bool {
+        self.scene(id).is_some_and(Scene::is_force_deactivated)
+    }
+
+    /// Upstream `isRTCEnabled`: the scene waits for the operator rather than proceeding on the
+    /// module's judgment (its status's `auto_mode` is false). `None` for a scene that is not
+    /// live, where upstream answers its auto-mode flag (`[COOP-DEV-UNKNOWN-QUERY.1]`).
+    #[must_use]
+    pub fn is_rtc_enabled(&self, id: SceneId) -> Option<bool> {
+        // [COOP-DEV-UNKNOWN-QUERY.1]
+        self.scene(id).map(|scene| !auto_mode(scene, self.state))
+    }
+
+    /// Upstream `isTerminated`: `Some(true)` once the scene succeeded or failed (the core
+    /// retires it, `[COOP-DEV-TERMINAL.1]`), `Some(false)` while it is live or if it was
+    /// removed or expired, `None` if this interface never registered it or the core has
+    /// forgotten it (`[COOP-DEV-UNKNOWN-QUERY.1]`).
+    #[must_use]
+    pub fn is_terminated(&self, id: SceneId) -> Option<bool> {
+        if self.scene(id).is_some() {
+            return Some(false);
+        }
+        if self.routes.get(&id) != Some(&self.index) {
+            return None;
+        }
+        // [COOP-DEV-UNKNOWN-QUERY.1] [COOP-DEV-TERMINAL.1]
+        let retirement = self.state.retirement(id)?;
+        Some(matches!(
+            retirement.reason,
+            RetireReason::Succeeded | RetireReason::Failed
+        ))
+    }
+
+    /// Upstream `publishCooperateStatus`'s message: this interface's live scenes, in identifier
+    /// order, each stamped with its owner's last report (`stamp` less the scene's age).
+    #[must_use]
+    pub fn cooperate_status_array(&self, stamp: Time) -> CooperateStatusArray {
+        CooperateStatusArray {
+            stamp,
+            statuses: self
+                .state
+                .scenes()
+                .filter(|(id, _)| self.routes.get(id) == Some(&self.index))
+                .map(|(id, scene)| cooperate_status(self.binding, id, scene, self.state, stamp))
+                .collect(),
+        }
+    }
+
+    /// Upstream's auto-mode status: on when the interface's module policy is optional.
+    #[must_use]
+    pub fn auto_mode_status(&self) -> AutoModeStatus {
+        auto_mode_status(self.binding, self.state)
+    }
+}
+
+/// One RTC interface, to change the core through and to query. Made by [`Rtc::interface`].
+#[derive(Debug)]
+pub struct Interface<'a> {
+    bindings: &'a [Binding],
+    binding: &'a Binding,
+    index: usize,
+    routes: &'a mut BTreeMap<SceneId, usize>,
+    state: &'a mut crate::State,
+}
+
+impl Interface<'_> {
+    /// The same interface, for queries.
+    #[must_use]
+    pub fn view(&self) -> View<'_> {
+        View {
+            bindings: self.bindings,
+            binding: self.binding,
+            index: self.index,
+            routes: self.routes,
+            state: self.state,
+        }
+    }
+
+    /// Upstream `updateCooperateStatus`: the owner reports a scene.
+    ///
+    /// For a live scene of this interface it is the core's `Update`: `safe` is the module
+    /// decision (activate when safe), `state` the phase, the distances the geometry, and
+    /// `requested` the requested flag. For an identifier that is not live it is the core's
+    /// `Register` (`[COOP-DEV-IMPLICIT-REGISTER.1]`), followed, if `state` is not waiting, by the
+    /// update to it, as one step (`[COOP-DEV-REGISTER-PHASE.1]`). The answer lists the
+    /// transitions.
+    ///
+    /// # Errors
+    /// [`RtcError::Field`] if `state` is none of `State`'s constants (`[COOP-DEV-CONSTANTS.1]`);
+    /// [`RtcError::ForeignScene`] if the scene is another interface's;
+    /// [`RtcError::InitialPhase`] if a new scene cannot start in `state`; the core's rejection
+    /// otherwise (for example a phase change the lifecycle forbids, or a retired identifier).
+    /// Nothing changes on an error.
+    pub fn update_cooperate_status(
+        &mut self,
+        id: SceneId,
+        safe: bool,
+        state: u8,
+        start_distance: f32,
+        finish_distance: f32,
+        requested: bool,
+    ) -> Result<Vec<Transition>, RtcError> {
+        // [COOP-DEV-CONSTANTS.1]
+        let phase = super::State::new(state).phase().map_err(|e| FieldError {
+            field: "state".to_owned(),
+            ..e
+        })?;
+        let decision = if safe {
+            Decision::Activate
+        } else {
+            Decision::Deactivate
+        };
+        let geometry = self.binding.geometry(start_distance, finish_distance);
+        let module = self.binding.module;
+        if self.state.scene(id).is_some() {
+            self.view().check_owned(id)?;
+            let update = update_input(id, module, phase, decision, requested, geometry);
+            return Ok(vec![self.state.apply(&update)?]);
+        }
+        // [COOP-DEV-IMPLICIT-REGISTER.1] [COOP-DEV-REGISTER-PHASE.1]
+        let register = register_input(id, module, decision, requested, geometry);
+        let transitions = if phase == Phase::WaitingForExecution {
+            vec![self.state.apply(&register)?]
+        } else {
+            let (registered, first) = self.state.after(&register)?;
+            let update = update_input(id, module, phase, decision, requested, geometry);
+            let (moved, second) =
+                registered
+                    .after(&update)
+                    .map_err(|rejection| RtcError::InitialPhase {
+                        id,
+                        phase,
+                        rejection,
+                    })?;
+            *self.state = moved;
+            vec![first, second]
+        };
+        prune(self.routes, self.state);
+        self.routes.insert(id, self.index);
+        Ok(transitions)
+    }
+
+    /// Upstream `removeCooperateStatus`: the core's `Remove`. The identifier retires.
+    ///
+    /// # Errors
+    /// [`RtcError::ForeignScene`] if the scene is another interface's; the core's rejection if
+    /// the identifier is unknown or retired.
+    pub fn remove_cooperate_status(&mut self, id: SceneId) -> Result<Transition, RtcError> {
+        self.view().check_owned(id)?;
+        let module = self.binding.module;
+        Ok(self.state.apply(&Input::Remove { id, module })?)
+    }
+
+    /// Upstream `clearCooperateStatus`: removes every live scene of this interface, all or
+    /// none, and answers their identifiers.
+    ///
+    /// # Errors
+    /// The core's rejection of a removal; then nothing is removed.
+    pub fn clear_cooperate_status(&mut self) -> Result<Vec<SceneId>, RtcError> {
+        let ids: Vec<SceneId> = self
+            .state
+            .scenes()
+            .map(|(id, _)| id)
+            .filter(|id| self.routes.get(id) == Some(&self.index))
+            .collect();
+        if ids.is_empty() {
+            return Ok(ids);
+        }
+        let module = self.binding.module;
+        let mut next = self.state.clone();
+        for id in &ids {
+            next.apply(&Input::Remove { id: *id, module })?;
+        }
+        *self.state = next;
+        Ok(ids)
+    }
+
+    /// Upstream's `CooperateCommands` service of this interface: the core's `SetCommands`. The
+    /// batch applies whole or not at all, so each response is `success = true` exactly when it
+    /// applied (`[COOP-DEV-BATCH.1]`); a command naming another interface's scene refuses the
+    /// batch, as upstream answers "not found" for it.
+    pub fn cooperate_commands(
+        &mut self,
+        request: &CooperateCommandsRequest,
+    ) -> Reply<CooperateCommandsResponse> {
+        let (bindings, binding, index) = (self.bindings, self.binding, self.index);
+        let routes: &BTreeMap<SceneId, usize> = self.routes;
+        apply_commands(self.state, request, |state, id| {
+            View {
+                bindings,
+                binding,
+                index,
+                routes,
+                state,
+            }
+            .check_owned(id)
+        })
+    }
+
+    /// Upstream's `AutoMode` service of this interface: the policy of its core module,
+    /// `optional` when enabled, `required` when not. Operator decisions stand
+    /// (`[COOP-DEV-POLICY-CLOBBER.1]`), and every interface of the same core module is switched
+    /// with it (`[COOP-DEV-AUTO-MODE-KEY.1]`).
+    pub fn auto_mode(&mut self, request: &AutoModeRequest) -> Reply<AutoModeResponse> {
+        let result = set_auto_mode(self.state, [self.binding.module].into(), request.enable);
+        Reply {
+            response: AutoModeResponse {
+                success: result.is_ok(),
+            },
+            result,
+        }
+    }
+
+    /// See [`View::is_registered`].
+    #[must_use]
+    pub fn is_registered(&self, id: SceneId) -> bool {
+        self.view().is_registered(id)
+    }
+
+    /// See [`View::is_activated`].
+    #[must_use]
+    pub fn is_activated(&self, id: SceneId) -> bool {
+        self.view().is_activated(id)
+    }
+
+    /// See [`View::is_force_activated`].
+    #[must_use]
+    pub fn is_force_activated(&self, id: SceneId) -> bool {
+        self.view().is_force_activated(id)
+    }
+
+    /// See [`View::is_force_deactivated`].
+    #[must_use]
+    pub fn is_force_deactivated(&self, id: SceneId) -> bool {
+        self.view().is_force_deactivated(id)
+    }
+
+    /// See [`View::is_rtc_enabled`].
+    #[must_use]
+    pub fn is_rtc_enabled(&self, id: SceneId) -> Option<bool> {
+        self.view().is_rtc_enabled(id)
+    }
+
+    /// See [`View::is_terminated`].
+    #[must_use]
+    pub fn is_terminated(&self, id: SceneId) -> Option<bool> {
+        self.view().is_terminated(id)
+    }
+
+    /// See [`View::cooperate_status_array`].
+    #[must_use]
+    pub fn cooperate_status_array(&self, stamp: Time) -> CooperateStatusArray {
+        self.view().cooperate_status_array(stamp)
+    }
+
+    /// See [`View::auto_mode_status`].
+    #[must_use]
+    pub fn auto_mode_status(&self) -> AutoModeStatus {
+        self.view().auto_mode_status()
+    }
+}

@@ -1,0 +1,210 @@
+//! Bindings: which core module, and which kind of factor, an RTC interface name stands for.
+
+use crate::{
+    Behavior, Direction, Distance, Geometry, Module, Pose, SteeringStatus, VelocityStatus,
+};
+
+use super::ModuleType;
+
+/// How an interface's scenes are reported in the AD API: as velocity factors (stop or pass) or
+/// as steering factors turning one way (change the path or keep it).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Kind {
+    /// A velocity scene: the start distance is the distance to the stop.
+    Velocity,
+    /// A steering scene turning this way: the start and finish distances bound its section.
+    Steering(Direction),
+}
+
+/// One RTC interface: its name (the last element of its topics and services), the module type
+/// its statuses carry, the core module its scenes belong to, and their kind.
+///
+/// Several interfaces may share a core module (`lane_change_left` and `lane_change_right` are
+/// both `lane-change`); they then share its policy (`[COOP-DEV-AUTO-MODE-KEY.1]`) but not their
+/// scenes.
+#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Binding {
+    /// The interface name, for example `lane_change_left`.
+    pub name: String,
+    /// The module type its statuses and auto-mode status carry.
+    pub module_type: ModuleType,
+    /// The core module its scenes belong to.
+    pub module: Module,
+    /// How its scenes are reported.
+    pub kind: Kind,
+}
+
+impl Binding {
+    /// A binding.
+    pub fn new(
+        name: impl Into<String>,
+        module_type: ModuleType,
+        module: Module,
+        kind: Kind,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            module_type,
+            module,
+            kind,
+        }
+    }
+
+    /// The bindings of every interface name the planners use, with the behaviour names of the
+    /// AD API's planning factors:
+    ///
+    /// | Interface | Module type | Behaviour | Kind |
+    /// |---|---|---|---|
+    /// | `lane_change_left`, `_right` | `LANE_CHANGE_LEFT`, `_RIGHT` | `lane-change` | steering left, right |
+    /// | `external_request_lane_change_left`, `_right` | `EXT_REQUEST_LANE_CHANGE_LEFT`, `_RIGHT` | `lane-change` | steering left, right |
+    /// | `avoidance_by_lane_change_left`, `_right` | `AVOIDANCE_BY_LC_LEFT`, `_RIGHT` | `lane-change` | steering left, right |
+    /// | `static_obstacle_avoidance_left`, `_right` | `AVOIDANCE_LEFT`, `_RIGHT` | `avoidance` | steering left, right |
+    /// | `goal_planner` | `GOAL_PLANNER` | `goal-planner` | steering, direction unknown |
+    /// | `start_planner` | `START_PLANNER` | `start-planner` | steering, direction unknown |
+    /// | `intersection`, `intersection_occlusion` | `INTERSECTION`, `INTERSECTION_OCCLUSION` | `intersection` | velocity |
+    /// | `crosswalk` | `CROSSWALK` | `crosswalk` | velocity |
+    /// | `blind_spot` | `BLIND_SPOT` | `rear-check` | velocity |
+    /// | `traffic_light` | `TRAFFIC_LIGHT` | `traffic-signal` | velocity |
+    /// | `virtual_traffic_light` | `TRAFFIC_LIGHT` | `virtual-traffic-light` | velocity |
+    /// | `detection_area` | `DETECTION_AREA` | `user-defined-attention-area` | velocity |
+    /// | `no_stopping_area` | `NO_STOPPING_AREA` | `no-stopping-area` | velocity |
+    /// | `roundabout` | `ROUNDABOUT` | `roundabout` | velocity |
+    ///
+    /// Every sequence is empty: an RTC interface cannot tell an avoidance's shift out from its
+    /// return. `occlusion_spot` has no AD API behaviour and `stop_line` no RTC scenes; bind them
+    /// yourself if you need them.
+    #[must_use]
+    pub fn standard() -> Vec<Self> {
+        use Behavior as B;
+        use Direction::{Left, Right, Unknown};
+        use Kind::{Steering, Velocity};
+        use ModuleType as T;
+        let rows = [
+            (
+                "lane_change_left",
+                T::LaneChangeLeft,
+                B::LaneChange,
+                Steering(Left),
+            ),
+            (
+                "lane_change_right",
+                T::LaneChangeRight,
+                B::LaneChange,
+                Steering(Right),
+            ),
+            (
+                "external_request_lane_change_left",
+                T::ExtRequestLaneChangeLeft,
+                B::LaneChange,
+                Steering(Left),
+            ),
+            (
+                "external_request_lane_change_right",
+                T::ExtRequestLaneChangeRight,
+                B::LaneChange,
+                Steering(Right),
+            ),
+            (
+                "avoidance_by_lane_change_left",
+                T::AvoidanceByLcLeft,
+                B::LaneChange,
+                Steering(Left),
+            ),
+            (
+                "avoidance_by_lane_change_right",
+                T::AvoidanceByLcRight,
+                B::LaneChange,
+                Steering(Right),
+            ),
+            (
+                "static_obstacle_avoidance_left",
+                T::AvoidanceLeft,
+                B::Avoidance,
+                Steering(Left),
+            ),
+            (
+                "static_obstacle_avoidance_right",
+                T::AvoidanceRight,
+                B::Avoidance,
+                Steering(Right),
+            ),
+            (
+                "goal_planner",
+                T::GoalPlanner,
+                B::GoalPlanner,
+                Steering(Unknown),
+            ),
+            (
+                "start_planner",
+                T::StartPlanner,
+                B::StartPlanner,
+                Steering(Unknown),
+            ),
+            ("intersection", T::Intersection, B::Intersection, Velocity),
+            (
+                "intersection_occlusion",
+                T::IntersectionOcclusion,
+                B::Intersection,
+                Velocity,
+            ),
+            ("crosswalk", T::Crosswalk, B::Crosswalk, Velocity),
+            ("blind_spot", T::BlindSpot, B::RearCheck, Velocity),
+            ("traffic_light", T::TrafficLight, B::TrafficSignal, Velocity),
+            (
+                "virtual_traffic_light",
+                T::TrafficLight,
+                B::VirtualTrafficLight,
+                Velocity,
+            ),
+            (
+                "detection_area",
+                T::DetectionArea,
+                B::UserDefinedAttentionArea,
+                Velocity,
+            ),
+            (
+                "no_stopping_area",
+                T::NoStoppingArea,
+                B::NoStoppingArea,
+                Velocity,
+            ),
+            ("roundabout", T::Roundabout, B::Roundabout, Velocity),
+        ];
+        rows.into_iter()
+            .map(|(name, module_type, behavior, kind)| {
+                Self::new(name, module_type, Module::new(behavior), kind)
+            })
+            .collect()
+    }
+
+    /// The core geometry for a status's distances: no poses (RTC has none), status unknown
+    /// (RTC does not say whether the vehicle has stopped or is turning).
+    pub(crate) fn geometry(&self, start_distance: f32, finish_distance: f32) -> Geometry {
+        match self.kind {
+            Kind::Velocity => Geometry::Velocity {
+                pose: Pose::default(),
+                distance: Distance(start_distance),
+                status: VelocityStatus::Unknown,
+            },
+            Kind::Steering(direction) => Geometry::Steering {
+                poses: [Pose::default(); 2],
+                distances: [Distance(start_distance), Distance(finish_distance)],
+                direction,
+                status: SteeringStatus::Unknown,
+            },
+        }
+    }
+}
+
+/// A geometry's start and finish distances; a velocity scene has one distance, reported as both.
+pub(crate) const fn distances(geometry: &Geometry) -> (f32, f32) {
+    match geometry {
+        Geometry::Velocity { distance, .. } => (distance.0, distance.0),
+        Geometry::Steering {
+            distances: [start, finish],
+            ..
+        } => (start.0, finish.0),
+    }
+}

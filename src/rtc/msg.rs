@@ -1,0 +1,596 @@
+//! The `tier4_rtc_msgs` messages and services, field for field, and their parsing into the
+//! core's types.
+//!
+//! With the `serde` feature every type (de)serializes in the JSON shape rosbridge uses: a UUID is
+//! `{"uuid": [16 numbers]}` (a base64 string is accepted too), a time is `{"sec", "nanosec"}`,
+//! and a message that carries a constant is `{"type": n}`. Fields hold the raw numbers, so any
+//! message deserializes; parsing into the core's types is where an undefined constant is
+//! refused, with the field named (`[COOP-DEV-CONSTANTS.1]`).
+
+use crate::{Decision, Phase, SceneId};
+
+use super::{FieldError, ModuleType};
+
+/// `unique_identifier_msgs/UUID`.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Uuid {
+    /// The 16 bytes, most significant first. In JSON an array of 16 numbers; a base64 string of
+    /// 16 bytes (rosbridge's encoding of `uint8` arrays) is accepted when reading.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "uuid_bytes::deserialize"))]
+    pub uuid: [u8; 16],
+}
+
+impl From<SceneId> for Uuid {
+    fn from(id: SceneId) -> Self {
+        Self {
+            uuid: *id.as_bytes(),
+        }
+    }
+}
+
+impl From<Uuid> for SceneId {
+    fn from(uuid: Uuid) -> Self {
+        Self::from_bytes(uuid.uuid)
+    }
+}
+
+/// `builtin_interfaces/Time`.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Time {
+    /// Seconds.
+    pub sec: i32,
+    /// Nanoseconds within the second, below 1 000 000 000.
+    pub nanosec: u32,
+}
+
+impl Time {
+    /// A time from seconds and nanoseconds.
+    #[must_use]
+    pub const fn new(sec: i32, nanosec: u32) -> Self {
+        Self { sec, nanosec }
+    }
+
+    /// This time moved back by `ms` milliseconds, saturating at the earliest representable
+    /// time.
+    #[must_use]
+    pub fn before_ms(self, ms: u64) -> Self {
+        const NANOS: i64 = 1_000_000_000;
+        let now = i64::from(self.sec) * NANOS + i64::from(self.nanosec);
+        let back = i64::try_from(ms)
+            .unwrap_or(i64::MAX)
+            .saturating_mul(1_000_000);
+        let then = now.saturating_sub(back).max(i64::from(i32::MIN) * NANOS);
+        Self {
+            sec: i32::try_from(then.div_euclid(NANOS)).unwrap_or(i32::MIN),
+            nanosec: u32::try_from(then.rem_euclid(NANOS)).unwrap_or(0),
+        }
+    }
+}
+
+/// `tier4_rtc_msgs/Command`: an operator's command, or a scene's command status.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Command {
+    /// [`DEACTIVATE`](Self::DEACTIVATE) or [`ACTIVATE`](Self::ACTIVATE).
+    #[cfg_attr(feature = "serde", serde(rename = "type"))]
+    pub r#type: u8,
+}
+
+impl Command {
+    /// Plan with priority on safety.
+    pub const DEACTIVATE: u8 = 0;
+    /// Plan with priority on driving.
+    pub const ACTIVATE: u8 = 1;
+
+    /// The command with this `type`.
+    #[must_use]
+    pub const fn new(r#type: u8) -> Self {
+        Self { r#type }
+    }
+
+    /// The decision it carries.
+    ///
+    /// # Errors
+    /// A [`FieldError`] on `type` if it is neither constant.
+    pub fn decision(&self) -> Result<Decision, FieldError> {
+        match self.r#type {
+            Self::DEACTIVATE => Ok(Decision::Deactivate),
+            Self::ACTIVATE => Ok(Decision::Activate),
+            _ => Err(FieldError::new(
+                "type",
+                self.r#type,
+                "DEACTIVATE (0) or ACTIVATE (1)",
+            )),
+        }
+    }
+}
+
+impl From<Decision> for Command {
+    fn from(decision: Decision) -> Self {
+        Self::new(match decision {
+            Decision::Deactivate => Self::DEACTIVATE,
+            Decision::Activate => Self::ACTIVATE,
+        })
+    }
+}
+
+/// `tier4_rtc_msgs/State`: where a scene is in its lifecycle.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct State {
+    /// One of the five constants.
+    #[cfg_attr(feature = "serde", serde(rename = "type"))]
+    pub r#type: u8,
+}
+
+impl State {
+    /// Registered, not yet executing.
+    pub const WAITING_FOR_EXECUTION: u8 = 0;
+    /// Executing.
+    pub const RUNNING: u8 = 1;
+    /// Being abandoned.
+    pub const ABORTING: u8 = 2;
+    /// Completed.
+    pub const SUCCEEDED: u8 = 3;
+    /// Cancelled.
+    pub const FAILED: u8 = 4;
+
+    /// The state with this `type`.
+    #[must_use]
+    pub const fn new(r#type: u8) -> Self {
+        Self { r#type }
+    }
+
+    /// The phase it names.
+    ///
+    /// # Errors
+    /// A [`FieldError`] on `type` if it is none of the five constants.
+    pub fn phase(&self) -> Result<Phase, FieldError> {
+        match self.r#type {
+            Self::WAITING_FOR_EXECUTION => Ok(Phase::WaitingForExecution),
+            Self::RUNNING => Ok(Phase::Running),
+            Self::ABORTING => Ok(Phase::Aborting),
+            Self::SUCCEEDED => Ok(Phase::Succeeded),
+            Self::FAILED => Ok(Phase::Failed),
+            _ => Err(FieldError::new(
+                "type",
+                self.r#type,
+                "WAITING_FOR_EXECUTION (0), RUNNING (1), ABORTING (2), SUCCEEDED (3) or FAILED (4)",
+            )),
+        }
+    }
+}
+
+impl From<Phase> for State {
+    fn from(phase: Phase) -> Self {
+        Self::new(match phase {
+            Phase::WaitingForExecution => Self::WAITING_FOR_EXECUTION,
+            Phase::Running => Self::RUNNING,
+            Phase::Aborting => Self::ABORTING,
+            Phase::Succeeded => Self::SUCCEEDED,
+            Phase::Failed => Self::FAILED,
+        })
+    }
+}
+
+/// `tier4_rtc_msgs/Module`: which kind of module a status or command is about, in the current
+/// numbering (see [`ModuleType`] for the numbering before April 2023).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Module {
+    /// One of the constants.
+    #[cfg_attr(feature = "serde", serde(rename = "type"))]
+    pub r#type: u8,
+}
+
+impl Module {
+    /// No module.
+    pub const NONE: u8 = 0;
+    /// Lane change to the left.
+    pub const LANE_CHANGE_LEFT: u8 = 1;
+    /// Lane change to the right.
+    pub const LANE_CHANGE_RIGHT: u8 = 2;
+    /// Static obstacle avoidance to the left.
+    pub const AVOIDANCE_LEFT: u8 = 3;
+    /// Static obstacle avoidance to the right.
+    pub const AVOIDANCE_RIGHT: u8 = 4;
+    /// Goal planner (formerly pull over).
+    pub const GOAL_PLANNER: u8 = 5;
+    /// Start planner (formerly pull out).
+    pub const START_PLANNER: u8 = 6;
+    /// Traffic light, and virtual traffic light.
+    pub const TRAFFIC_LIGHT: u8 = 7;
+    /// Intersection.
+    pub const INTERSECTION: u8 = 8;
+    /// Intersection occlusion (inserted here in April 2023).
+    pub const INTERSECTION_OCCLUSION: u8 = 9;
+    /// Crosswalk.
+    pub const CROSSWALK: u8 = 10;
+    /// Blind spot.
+    pub const BLIND_SPOT: u8 = 11;
+    /// Detection area.
+    pub const DETECTION_AREA: u8 = 12;
+    /// No stopping area.
+    pub const NO_STOPPING_AREA: u8 = 13;
+    /// Occlusion spot.
+    pub const OCCLUSION_SPOT: u8 = 14;
+    /// Lane change to the left requested from outside.
+    pub const EXT_REQUEST_LANE_CHANGE_LEFT: u8 = 15;
+    /// Lane change to the right requested from outside.
+    pub const EXT_REQUEST_LANE_CHANGE_RIGHT: u8 = 16;
+    /// Avoidance by a lane change to the left.
+    pub const AVOIDANCE_BY_LC_LEFT: u8 = 17;
+    /// Avoidance by a lane change to the right.
+    pub const AVOIDANCE_BY_LC_RIGHT: u8 = 18;
+    /// Roundabout: unverified, see [`ModuleType::Roundabout`].
+    pub const ROUNDABOUT: u8 = 19;
+
+    /// The module with this `type`.
+    #[must_use]
+    pub const fn new(r#type: u8) -> Self {
+        Self { r#type }
+    }
+
+    /// The module type it names, in the current numbering.
+    ///
+    /// # Errors
+    /// A [`FieldError`] on `type` if no module type has this value.
+    pub fn module_type(&self) -> Result<ModuleType, FieldError> {
+        ModuleType::from_value(self.r#type)
+            .ok_or_else(|| FieldError::new("type", self.r#type, "a Module constant (0 to 19)"))
+    }
+}
+
+impl From<ModuleType> for Module {
+    fn from(module: ModuleType) -> Self {
+        Self::new(module.value())
+    }
+}
+
+/// Names the field of a constant-carrying message inside its parent: `{outer}.type`.
+fn named(error: FieldError, outer: &str) -> FieldError {
+    FieldError {
+        field: format!("{outer}.type"),
+        ..error
+    }
+}
+
+/// `tier4_rtc_msgs/CooperateStatus`: one scene as an RTC interface publishes it.
+#[derive(Clone, Copy, PartialEq, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CooperateStatus {
+    /// When the scene's owner last reported it.
+    pub stamp: Time,
+    /// The scene.
+    pub uuid: Uuid,
+    /// The module type of the interface that publishes it.
+    pub module: Module,
+    /// The module's own judgment: the module decision is activate.
+    pub safe: bool,
+    /// The owner asks the operator explicitly. Absent in older messages: `false`.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub requested: bool,
+    /// The operator's command, `DEACTIVATE` until one arrives.
+    pub command_status: Command,
+    /// The lifecycle state.
+    pub state: State,
+    /// Whether the scene proceeds without an operator's approval.
+    pub auto_mode: bool,
+    /// Distance to the start of the section the scene changes, in metres.
+    pub start_distance: f32,
+    /// Distance to its end, in metres.
+    pub finish_distance: f32,
+}
+
+/// A [`CooperateStatus`] with every constant parsed.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct ParsedStatus {
+    /// When the owner last reported the scene.
+    pub stamp: Time,
+    /// The scene.
+    pub id: SceneId,
+    /// The module type.
+    pub module: ModuleType,
+    /// The module decision (`safe`).
+    pub module_decision: Decision,
+    /// `requested`.
+    pub requested: bool,
+    /// The command status.
+    pub command: Decision,
+    /// The phase (`state`).
+    pub phase: Phase,
+    /// `auto_mode`.
+    pub auto_mode: bool,
+    /// `start_distance`.
+    pub start_distance: f32,
+    /// `finish_distance`.
+    pub finish_distance: f32,
+}
+
+impl CooperateStatus {
+    /// Parses every constant.
+    ///
+    /// # Errors
+    /// A [`FieldError`] naming the first field with an undefined constant: `module.type`,
+    /// `command_status.type` or `state.type`.
+    pub fn parse(&self) -> Result<ParsedStatus, FieldError> {
+        Ok(ParsedStatus {
+            stamp: self.stamp,
+            id: self.uuid.into(),
+            module: self.module.module_type().map_err(|e| named(e, "module"))?,
+            module_decision: if self.safe {
+                Decision::Activate
+            } else {
+                Decision::Deactivate
+            },
+            requested: self.requested,
+            command: self
+                .command_status
+                .decision()
+                .map_err(|e| named(e, "command_status"))?,
+            phase: self.state.phase().map_err(|e| named(e, "state"))?,
+            auto_mode: self.auto_mode,
+            start_distance: self.start_distance,
+            finish_distance: self.finish_distance,
+        })
+    }
+}
+
+/// `tier4_rtc_msgs/CooperateStatusArray`.
+#[derive(Clone, PartialEq, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CooperateStatusArray {
+    /// When the array was published.
+    pub stamp: Time,
+    /// The statuses.
+    pub statuses: Vec<CooperateStatus>,
+}
+
+impl CooperateStatusArray {
+    /// Parses every status.
+    ///
+    /// # Errors
+    /// The first [`FieldError`], its field prefixed by `statuses[i]`.
+    pub fn parse(&self) -> Result<Vec<ParsedStatus>, FieldError> {
+        self.statuses
+            .iter()
+            .enumerate()
+            .map(|(index, status)| {
+                status
+                    .parse()
+                    .map_err(|e| e.within(&format!("statuses[{index}]")))
+            })
+            .collect()
+    }
+}
+
+/// `tier4_rtc_msgs/CooperateCommand`: an operator's command for one scene.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CooperateCommand {
+    /// The scene.
+    pub uuid: Uuid,
+    /// The module type the sender believes the scene has. Checked to be a defined constant;
+    /// scenes are matched by `uuid` alone.
+    pub module: Module,
+    /// The command.
+    pub command: Command,
+}
+
+impl CooperateCommand {
+    /// The core command: this scene, the operator decision activate or deactivate.
+    ///
+    /// # Errors
+    /// A [`FieldError`] on `module.type` or `command.type` if it is not a defined constant.
+    pub fn parse(&self) -> Result<crate::Command, FieldError> {
+        self.module.module_type().map_err(|e| named(e, "module"))?;
+        let decision = self.command.decision().map_err(|e| named(e, "command"))?;
+        Ok(crate::Command {
+            id: self.uuid.into(),
+            decision: match decision {
+                Decision::Deactivate => crate::OperatorDecision::Deactivate,
+                Decision::Activate => crate::OperatorDecision::Activate,
+            },
+        })
+    }
+}
+
+/// `tier4_rtc_msgs/CooperateResponse`: the answer for one command.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CooperateResponse {
+    /// The command's scene.
+    pub uuid: Uuid,
+    /// The command's module, as sent.
+    pub module: Module,
+    /// Whether the command was applied.
+    pub success: bool,
+}
+
+/// `tier4_rtc_msgs/AutoModeStatus`: whether an interface's scenes proceed without approval.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AutoModeStatus {
+    /// The interface's module type.
+    pub module: Module,
+    /// Whether auto mode is on.
+    pub is_auto_mode: bool,
+}
+
+/// `tier4_rtc_msgs/AutoModeStatusArray`.
+#[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AutoModeStatusArray {
+    /// When the array was published.
+    pub stamp: Time,
+    /// One status per interface.
+    pub statuses: Vec<AutoModeStatus>,
+}
+
+/// The request of `tier4_rtc_msgs/srv/CooperateCommands`.
+#[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CooperateCommandsRequest {
+    /// When it was sent (not read, as upstream).
+    pub stamp: Time,
+    /// The commands, in order.
+    pub commands: Vec<CooperateCommand>,
+}
+
+impl CooperateCommandsRequest {
+    /// The core commands, in order.
+    ///
+    /// # Errors
+    /// The first [`FieldError`], its field prefixed by `commands[i]`.
+    pub fn parse(&self) -> Result<Vec<crate::Command>, FieldError> {
+        self.commands
+            .iter()
+            .enumerate()
+            .map(|(index, command)| {
+                command
+                    .parse()
+                    .map_err(|e| e.within(&format!("commands[{index}]")))
+            })
+            .collect()
+    }
+}
+
+/// The response of `tier4_rtc_msgs/srv/CooperateCommands`.
+#[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CooperateCommandsResponse {
+    /// One response per command, in request order.
+    pub responses: Vec<CooperateResponse>,
+}
+
+/// The request of `tier4_rtc_msgs/srv/AutoMode`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AutoModeRequest {
+    /// Turn auto mode on or off.
+    pub enable: bool,
+}
+
+/// The response of `tier4_rtc_msgs/srv/AutoMode`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AutoModeResponse {
+    /// Whether it was done.
+    pub success: bool,
+}
+
+/// The request of `tier4_rtc_msgs/srv/AutoModeWithModule`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AutoModeWithModuleRequest {
+    /// The module type whose interfaces to switch.
+    pub module: Module,
+    /// Turn auto mode on or off.
+    pub enable: bool,
+}
+
+/// The response of `tier4_rtc_msgs/srv/AutoModeWithModule`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AutoModeWithModuleResponse {
+    /// Whether it was done.
+    pub success: bool,
+}
+
+/// A UUID's bytes in JSON: an array of 16 numbers, or rosbridge's base64 string.
+#[cfg(feature = "serde")]
+mod uuid_bytes {
+    use core::fmt;
+
+    use serde::de::{Error, SeqAccess, Visitor};
+
+    pub(super) fn deserialize<'de, D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<[u8; 16], D::Error> {
+        deserializer.deserialize_any(Bytes)
+    }
+
+    struct Bytes;
+
+    impl<'de> Visitor<'de> for Bytes {
+        type Value = [u8; 16];
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("16 bytes: an array of 16 numbers from 0 to 255, or a base64 string")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            let mut bytes = [0; 16];
+            for (index, byte) in bytes.iter_mut().enumerate() {
+                *byte = seq
+                    .next_element()?
+                    .ok_or_else(|| A::Error::invalid_length(index, &self))?;
+            }
+            if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                return Err(A::Error::invalid_length(17, &self));
+            }
+            Ok(bytes)
+        }
+
+        fn visit_str<E: Error>(self, text: &str) -> Result<Self::Value, E> {
+            decode_base64(text)
+                .ok_or_else(|| E::invalid_value(serde::de::Unexpected::Str(text), &self))
+        }
+    }
+
+    /// 16 bytes from standard base64, with or without its `==` padding.
+    fn decode_base64(text: &str) -> Option<[u8; 16]> {
+        let digits = match text.len() {
+            22 => text,
+            24 => text.strip_suffix("==")?,
+            _ => return None,
+        };
+        let mut bytes = [0u8; 16];
+        let mut filled = 0;
+        let mut bits: u32 = 0;
+        let mut count = 0;
+        for c in digits.bytes() {
+            let value = match c {
+                b'A'..=b'Z' => c - b'A',
+                b'a'..=b'z' => c - b'a' + 26,
+                b'0'..=b'9' => c - b'0' + 52,
+                b'+' => 62,
+                b'/' => 63,
+                _ => return None,
+            };
+            bits = (bits << 6) | u32::from(value);
+            count += 6;
+            if count >= 8 {
+                count -= 8;
+                *bytes.get_mut(filled)? = u8::try_from((bits >> count) & 0xff).ok()?;
+                filled += 1;
+                bits &= (1 << count) - 1;
+            }
+        }
+        // 22 digits carry 132 bits: 16 bytes and 4 bits that must be zero.
+        (filled == 16 && bits == 0).then_some(bytes)
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::decode_base64;
+
+        #[test]
+        fn base64_of_16_bytes() {
+            let bytes: [u8; 16] = core::array::from_fn(|i| u8::try_from(i * 17).unwrap());
+            // The standard encoding of 00 11 22 … ff.
+            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u/w=="), Some(bytes));
+            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u/w"), Some(bytes));
+            assert_eq!(
+                decode_base64("ABEiM0RVZneImaq7zN3u/x=="),
+                None,
+                "stray low bits"
+            );
+            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u/w="), None);
+            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u-w=="), None);
+            assert_eq!(decode_base64(""), None);
+        }
+    }
+}
