@@ -813,12 +813,14 @@ impl<R: Registry> Planner<R> {
         }
     }
 
-    /// `k` commands, all with `decision`, for `k` live scenes spread evenly from the oldest
-    /// to the newest (so that a linear search does not find them all near the front).
+    /// `k` commands, all with `decision`, for `k` live scenes spread evenly over the live
+    /// ones, each in the middle of its stretch (so that a linear search meets them at
+    /// average depth, not all near the front).
     pub fn commands(&self, k: usize, decision: OperatorDecision) -> Vec<Command> {
         let step = (self.owners.len() / k.max(1)).max(1);
         self.owners
             .iter()
+            .skip(step / 2)
             .step_by(step)
             .take(k)
             .map(|owner| Command {
