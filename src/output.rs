@@ -3,8 +3,8 @@
 
 use crate::{
     Behavior, Command, CommandOutcome, Decision, Direction, Distance, Geometry, Input,
-    OperatorDecision, PolicySetting, Pose, Rejection, SceneId, Sequence, State, SteeringStatus,
-    Transition, VelocityStatus,
+    OperatorDecision, PolicySetting, Pose, Rejection, Scene, SceneId, Sequence, State,
+    SteeringStatus, Transition, VelocityStatus,
 };
 
 /// A live scene as an operator sees it (AD API `CooperationStatus`, `[COOP-OUT-STATUS.1]`).
@@ -19,6 +19,18 @@ pub struct CooperationStatus {
     pub operator_decision: OperatorDecision,
     /// Whether a command would be accepted now. AD API `cancellable`.
     pub cancellable: bool,
+}
+
+impl CooperationStatus {
+    /// The status of the live scene `scene`, whose identifier is `id`.
+    const fn of(id: SceneId, scene: &Scene) -> Self {
+        Self {
+            id,
+            module_decision: scene.module_decision(),
+            operator_decision: scene.operator_decision(),
+            cancellable: scene.is_cancellable(),
+        }
+    }
 }
 
 /// A velocity scene as a factor (AD API `VelocityFactor`).
@@ -63,19 +75,17 @@ impl State {
     /// The cooperation status of a live scene (`[COOP-OUT-STATUS.1]`).
     #[must_use]
     pub fn status(&self, id: SceneId) -> Option<CooperationStatus> {
-        self.scene(id).map(|scene| CooperationStatus {
-            id,
-            module_decision: scene.module_decision(),
-            operator_decision: scene.operator_decision(),
-            cancellable: scene.is_cancellable(),
-        })
+        self.scene(id).map(|scene| CooperationStatus::of(id, scene))
     }
 
     /// Replaces `out`'s contents with every live scene's status, in identifier order.
     /// Allocates only if `out` has too little capacity.
     pub fn statuses_into(&self, out: &mut Vec<CooperationStatus>) {
         out.clear();
-        out.extend(self.scenes().filter_map(|(id, _)| self.status(id)));
+        out.extend(
+            self.scenes()
+                .map(|(id, scene)| CooperationStatus::of(id, scene)),
+        );
     }
 
     /// Replaces `out`'s contents with the velocity factors of the live velocity scenes, nearest
@@ -83,14 +93,11 @@ impl State {
     pub fn velocity_factors_into(&self, out: &mut Vec<VelocityFactor>) {
         out.clear();
         for (id, scene) in self.scenes() {
-            if let (
-                Geometry::Velocity {
-                    pose,
-                    distance,
-                    status,
-                },
-                Some(cooperation),
-            ) = (scene.geometry(), self.status(id))
+            if let Geometry::Velocity {
+                pose,
+                distance,
+                status,
+            } = scene.geometry()
             {
                 out.push(VelocityFactor {
                     pose: *pose,
@@ -98,7 +105,7 @@ impl State {
                     status: *status,
                     behavior: scene.module().behavior,
                     sequence: scene.module().sequence,
-                    cooperation,
+                    cooperation: CooperationStatus::of(id, scene),
                 });
             }
         }
@@ -114,15 +121,12 @@ impl State {
     pub fn steering_factors_into(&self, out: &mut Vec<SteeringFactor>) {
         out.clear();
         for (id, scene) in self.scenes() {
-            if let (
-                Geometry::Steering {
-                    poses,
-                    distances,
-                    direction,
-                    status,
-                },
-                Some(cooperation),
-            ) = (scene.geometry(), self.status(id))
+            if let Geometry::Steering {
+                poses,
+                distances,
+                direction,
+                status,
+            } = scene.geometry()
             {
                 out.push(SteeringFactor {
                     poses: *poses,
@@ -131,7 +135,7 @@ impl State {
                     status: *status,
                     behavior: scene.module().behavior,
                     sequence: scene.module().sequence,
-                    cooperation,
+                    cooperation: CooperationStatus::of(id, scene),
                 });
             }
         }

@@ -155,6 +155,52 @@ proptest! {
         }
     }
 
+    /// The status list and the factor lists say what the per-scene queries say: every live
+    /// scene once, with its `status`, each factor list holding exactly the scenes of its kind
+    /// with their module, nearest first (`[COOP-OUT-STATUS.1]`, `[COOP-OUT-ORDER.1]`).
+    #[test]
+    fn output_lists_agree_with_scene_queries(inputs in proptest::collection::vec(any_input(), 0..64)) {
+        let mut state = state();
+        let (mut statuses, mut velocity, mut steering) = (Vec::new(), Vec::new(), Vec::new());
+        for input in &inputs {
+            let _ = state.apply(input);
+            state.statuses_into(&mut statuses);
+            state.velocity_factors_into(&mut velocity);
+            state.steering_factors_into(&mut steering);
+            let expected: Vec<CooperationStatus> = state
+                .scenes()
+                .map(|(id, _)| state.status(id).expect("live"))
+                .collect();
+            prop_assert_eq!(&statuses, &expected);
+            let ids_of = |kind| -> Vec<SceneId> {
+                state.scenes().filter(|(_, s)| s.geometry().kind() == kind).map(|(id, _)| id).collect()
+            };
+            let mut listed: Vec<SceneId> = velocity.iter().map(|f| f.cooperation.id).collect();
+            listed.sort_unstable();
+            prop_assert_eq!(listed, ids_of(FactorKind::Velocity));
+            let mut listed: Vec<SceneId> = steering.iter().map(|f| f.cooperation.id).collect();
+            listed.sort_unstable();
+            prop_assert_eq!(listed, ids_of(FactorKind::Steering));
+            for factor in &velocity {
+                let id = factor.cooperation.id;
+                let scene = state.scene(id).expect("live");
+                prop_assert_eq!(Some(factor.cooperation), state.status(id));
+                prop_assert_eq!(Module::with_sequence(factor.behavior, factor.sequence), scene.module());
+                prop_assert_eq!(factor.distance, scene.geometry().sort_distance());
+            }
+            for factor in &steering {
+                let id = factor.cooperation.id;
+                let scene = state.scene(id).expect("live");
+                prop_assert_eq!(Some(factor.cooperation), state.status(id));
+                prop_assert_eq!(Module::with_sequence(factor.behavior, factor.sequence), scene.module());
+                prop_assert_eq!(factor.distances[0], scene.geometry().sort_distance());
+            }
+            let key = |distance: Distance, id: SceneId| (distance, id);
+            prop_assert!(velocity.windows(2).all(|w| key(w[0].distance, w[0].cooperation.id) < key(w[1].distance, w[1].cooperation.id)));
+            prop_assert!(steering.windows(2).all(|w| key(w[0].distances[0], w[0].cooperation.id) < key(w[1].distances[0], w[1].cooperation.id)));
+        }
+    }
+
     /// Serialized states and inputs read back equal.
     #[test]
     fn serde_round_trips(inputs in proptest::collection::vec(any_input(), 0..32)) {

@@ -1,0 +1,834 @@
+//! The work the runtime benchmarks measure, shared by `benches/runtime.rs` and
+//! `tests/allocations.rs` so that the allocation test checks the very cycle that is timed.
+//!
+//! A [`Planner`] holds N live scenes spread over [`MODULES`] and drives them through a
+//! [`Registry`]: the library's [`State`], or [`LinearRegistry`], an upstream-style registry
+//! written here only as the baseline. `rtc_interface` keeps its statuses in a vector and finds
+//! a scene by scanning it for the UUID on every update, command and query
+//! (`upstream-rtc.md` §3.3–3.5); [`LinearRegistry`] does the same, with the library's rules
+//! for the decisions so that both sides do the same work per scene. [`PerModuleRegistry`]
+//! splits that vector by module, as upstream has one `RTCInterface` per module.
+#![allow(dead_code, unreachable_pub)]
+
+use std::collections::VecDeque;
+
+use cooperation::{
+    merge, Behavior, Command, CooperationStatus, Decision, Direction, FactorKind, Geometry, Input,
+    Limits, Module, OperatorDecision, Phase, Policy, PolicySetting, SceneId, Sequence, State,
+    SteeringFactor, VelocityFactor,
+};
+
+/// The modules the scenes are spread over, round robin: steering and velocity scenes, optional
+/// and required policies.
+pub const MODULES: [(Module, Policy, FactorKind); 8] = [
+    (
+        Module::new(Behavior::LaneChange),
+        Policy::Optional,
+        FactorKind::Steering,
+    ),
+    (
+        Module::with_sequence(Behavior::Avoidance, Sequence::Change),
+        Policy::Required,
+        FactorKind::Steering,
+    ),
+    (
+        Module::with_sequence(Behavior::Avoidance, Sequence::Return),
+        Policy::Optional,
+        FactorKind::Steering,
+    ),
+    (
+        Module::new(Behavior::StartPlanner),
+        Policy::Required,
+        FactorKind::Steering,
+    ),
+    (
+        Module::new(Behavior::Crosswalk),
+        Policy::Required,
+        FactorKind::Velocity,
+    ),
+    (
+        Module::new(Behavior::Intersection),
+        Policy::Optional,
+        FactorKind::Velocity,
+    ),
+    (
+        Module::new(Behavior::TrafficSignal),
+        Policy::Optional,
+        FactorKind::Velocity,
+    ),
+    (
+        Module::new(Behavior::NoStoppingArea),
+        Policy::Required,
+        FactorKind::Velocity,
+    ),
+];
+
+/// The time between two planning cycles.
+pub const CYCLE_MS: u64 = 100;
+
+/// Limits that admit `scenes` live scenes and batches of that many entries; the defaults
+/// otherwise (the default `max_scenes` is 4 096, too few for the largest N).
+pub fn limits(scenes: usize) -> Limits {
+    let defaults = Limits::default();
+    Limits {
+        max_scenes: scenes.max(defaults.max_scenes),
+        max_batch: scenes.max(defaults.max_batch),
+        ..defaults
+    }
+}
+
+/// The `Register` input an owner sends. Every input the benchmarks send is built by this
+/// function or by [`update_input`].
+pub fn register_input(
+    id: SceneId,
+    module: Module,
+    decision: Decision,
+    geometry: Geometry,
+) -> Input {
+    Input::Register {
+        id,
+        module,
+        decision,
+        requested: false,
+        geometry,
+    }
+}
+
+/// The `Update` input an owner sends.
+pub fn update_input(
+    id: SceneId,
+    module: Module,
+    phase: Phase,
+    decision: Decision,
+    geometry: Geometry,
+) -> Input {
+    Input::Update {
+        id,
+        module,
+        phase,
+        decision,
+        requested: false,
+        geometry,
+    }
+}
+
+/// SplitMix64's finaliser: a bijection on `u64` that scatters consecutive numbers.
+const fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce5_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The `n`-th scene identifier: random-looking, as owners draw version-4 UUIDs, so identifier
+/// order is unrelated to creation order; distinct for distinct `n` (its low half is `n`).
+pub fn scene_id(n: u64) -> SceneId {
+    SceneId::from_u128((u128::from(mix(n)) << 64) | u128::from(n))
+}
+
+/// One scene's owner: what it reports, cycle by cycle.
+#[derive(Clone, Copy, Debug)]
+pub struct Owner {
+    /// The scene.
+    pub id: SceneId,
+    /// Its module.
+    pub module: Module,
+    kind: FactorKind,
+    salt: u64,
+    running: bool,
+}
+
+impl Owner {
+    /// The owner of the `n`-th scene, of the `n`-th module round robin.
+    pub fn new(n: u64) -> Self {
+        let (module, _, kind) = MODULES[n as usize % MODULES.len()];
+        Self::of_module(n, module, kind)
+    }
+
+    /// The owner of the `n`-th scene, of `module`.
+    pub fn of_module(n: u64, module: Module, kind: FactorKind) -> Self {
+        Self {
+            id: scene_id(n),
+            module,
+            kind,
+            salt: mix(n ^ 0x5eed),
+            running: false,
+        }
+    }
+
+    /// The geometry reported in `cycle`: each scene at its own distance, drawing nearer
+    /// cycle by cycle, so that the factor lists are sorted afresh every cycle.
+    pub fn geometry(&self, cycle: u64) -> Geometry {
+        let start = (self.salt % 2_000) as f32 / 10.0 + 10.0 - (cycle % 16) as f32 * 0.5;
+        match self.kind {
+            FactorKind::Velocity => Geometry::velocity(start),
+            FactorKind::Steering => {
+                let direction = if self.salt & 1 == 0 {
+                    Direction::Left
+                } else {
+                    Direction::Right
+                };
+                Geometry::steering(direction, start, start + 30.0)
+            }
+        }
+    }
+
+    /// The module decision reported in `cycle`: mostly safe, unsafe one cycle in four.
+    pub fn decision(&self, cycle: u64) -> Decision {
+        if (self.salt.wrapping_add(cycle)) % 4 == 0 {
+            Decision::Deactivate
+        } else {
+            Decision::Activate
+        }
+    }
+
+    /// The phase reported every cycle: waiting or running, for ever (both are cancellable).
+    pub fn phase(&self) -> Phase {
+        if self.running {
+            Phase::Running
+        } else {
+            Phase::WaitingForExecution
+        }
+    }
+}
+
+/// Caller-owned output buffers, reused cycle after cycle.
+#[derive(Default, Debug)]
+pub struct Outputs {
+    /// Every live scene's status.
+    pub statuses: Vec<CooperationStatus>,
+    /// The velocity factors, nearest first.
+    pub velocity: Vec<VelocityFactor>,
+    /// The steering factors, nearest first.
+    pub steering: Vec<SteeringFactor>,
+}
+
+/// What one planning cycle saw; the benchmarks keep it from being optimised away and the
+/// allocation test checks it.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Summary {
+    /// Updates accepted.
+    pub accepted: usize,
+    /// Merged decisions that were `Activate`.
+    pub activated: usize,
+    /// Statuses produced.
+    pub statuses: usize,
+    /// Factors produced, velocity and steering.
+    pub factors: usize,
+}
+
+/// The operations a planning cycle, an operator and a policy change need, on either side.
+pub trait Registry {
+    /// An empty registry for at most `scenes` live scenes, with the default policies of
+    /// `modules`.
+    fn new(modules: &[(Module, Policy, FactorKind)], scenes: usize) -> Self;
+    /// An owner opens a scene. Whether it was accepted.
+    fn register(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool;
+    /// An owner reports on its scene. Whether it was accepted.
+    fn update(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        phase: Phase,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool;
+    /// An owner drops its scene. Whether it was accepted.
+    fn remove(&mut self, id: SceneId, module: Module) -> bool;
+    /// Time passed.
+    fn tick(&mut self, elapsed_ms: u64) -> bool;
+    /// The merged decision the planner drives the scene with, asked by the scene's module.
+    fn merged_decision(&self, id: SceneId, module: Module) -> Option<Decision>;
+    /// Fills the caller's buffers with the statuses and the factor lists.
+    fn outputs(&self, out: &mut Outputs);
+    /// The AD API `set_commands` call. Whether it succeeded.
+    fn set_commands(&mut self, commands: Vec<Command>) -> bool;
+    /// The AD API `set_policies` call. Whether it succeeded.
+    fn set_policies(&mut self, policies: Vec<PolicySetting>) -> bool;
+    /// How many retired identifiers are remembered at most (none for the baseline).
+    fn retired_capacity(&self) -> usize;
+}
+
+impl Registry for State {
+    fn new(modules: &[(Module, Policy, FactorKind)], scenes: usize) -> Self {
+        let config = cooperation::Config {
+            policies: modules.iter().map(|&(m, p, _)| (m, p)).collect(),
+            limits: limits(scenes),
+        };
+        Self::new(config).expect("the benchmark's configuration is valid")
+    }
+
+    fn register(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool {
+        self.apply(&register_input(id, module, decision, geometry))
+            .is_ok()
+    }
+
+    fn update(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        phase: Phase,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool {
+        self.apply(&update_input(id, module, phase, decision, geometry))
+            .is_ok()
+    }
+
+    fn remove(&mut self, id: SceneId, module: Module) -> bool {
+        self.apply(&Input::Remove { id, module }).is_ok()
+    }
+
+    fn tick(&mut self, elapsed_ms: u64) -> bool {
+        self.apply(&Input::Tick { elapsed_ms }).is_ok()
+    }
+
+    fn merged_decision(&self, id: SceneId, _module: Module) -> Option<Decision> {
+        Self::merged_decision(self, id)
+    }
+
+    fn outputs(&self, out: &mut Outputs) {
+        self.statuses_into(&mut out.statuses);
+        self.velocity_factors_into(&mut out.velocity);
+        self.steering_factors_into(&mut out.steering);
+    }
+
+    fn set_commands(&mut self, commands: Vec<Command>) -> bool {
+        Self::set_commands(self, commands).status.success
+    }
+
+    fn set_policies(&mut self, policies: Vec<PolicySetting>) -> bool {
+        Self::set_policies(self, policies).success
+    }
+
+    fn retired_capacity(&self) -> usize {
+        self.limits().retired_capacity
+    }
+}
+
+/// One status record of the baseline, as `rtc_interface` keeps one per scene: everything
+/// about the scene, the UUID among it, and the policy copied in (upstream's per-status
+/// `auto_mode`).
+#[derive(Clone, Copy, Debug)]
+struct Record {
+    id: SceneId,
+    module: Module,
+    phase: Phase,
+    module_decision: Decision,
+    operator_decision: OperatorDecision,
+    policy: Policy,
+    age_ms: u64,
+    geometry: Geometry,
+}
+
+impl Record {
+    fn status(&self) -> CooperationStatus {
+        CooperationStatus {
+            id: self.id,
+            module_decision: self.module_decision,
+            operator_decision: self.operator_decision,
+            cancellable: self.phase.is_cancellable(),
+        }
+    }
+}
+
+/// The upstream-style baseline: one vector of status records, searched linearly by UUID for
+/// every update, command and query; a policy change rewrites every record of the module, as
+/// upstream's auto-mode service does.
+#[derive(Debug)]
+pub struct LinearRegistry {
+    records: Vec<Record>,
+    defaults: Vec<(Module, Policy)>,
+    ttl_ms: u64,
+    max_scenes: usize,
+}
+
+impl LinearRegistry {
+    fn find(&self, id: SceneId) -> Option<&Record> {
+        self.records.iter().find(|record| record.id == id)
+    }
+
+    fn find_mut(&mut self, id: SceneId) -> Option<&mut Record> {
+        self.records.iter_mut().find(|record| record.id == id)
+    }
+
+    fn default_policy(&self, module: Module) -> Option<Policy> {
+        self.defaults
+            .iter()
+            .find(|(m, _)| *m == module)
+            .map(|(_, p)| *p)
+    }
+}
+
+impl Registry for LinearRegistry {
+    fn new(modules: &[(Module, Policy, FactorKind)], scenes: usize) -> Self {
+        Self {
+            records: Vec::new(),
+            defaults: modules.iter().map(|&(m, p, _)| (m, p)).collect(),
+            ttl_ms: Limits::default().ttl_ms,
+            max_scenes: limits(scenes).max_scenes,
+        }
+    }
+
+    fn register(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool {
+        if self.find(id).is_some() || self.records.len() >= self.max_scenes {
+            return false;
+        }
+        let Some(policy) = self.default_policy(module) else {
+            return false;
+        };
+        self.records.push(Record {
+            id,
+            module,
+            phase: Phase::WaitingForExecution,
+            module_decision: decision,
+            operator_decision: OperatorDecision::Undecided,
+            policy,
+            age_ms: 0,
+            geometry,
+        });
+        true
+    }
+
+    fn update(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        phase: Phase,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool {
+        let Some(record) = self.find_mut(id) else {
+            return false;
+        };
+        if record.module != module
+            || record.geometry.kind() != geometry.kind()
+            || !record.phase.may_become(phase)
+        {
+            return false;
+        }
+        if phase.is_terminal() {
+            return self.remove(id, module);
+        }
+        record.phase = phase;
+        record.module_decision = decision;
+        record.geometry = geometry;
+        record.age_ms = 0;
+        true
+    }
+
+    fn remove(&mut self, id: SceneId, module: Module) -> bool {
+        match self.records.iter().position(|record| record.id == id) {
+            Some(at) if self.records[at].module == module => {
+                self.records.remove(at);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    fn tick(&mut self, elapsed_ms: u64) -> bool {
+        let ttl_ms = self.ttl_ms;
+        for record in &mut self.records {
+            record.age_ms = record.age_ms.saturating_add(elapsed_ms);
+        }
+        self.records.retain(|record| record.age_ms <= ttl_ms);
+        true
+    }
+
+    fn merged_decision(&self, id: SceneId, _module: Module) -> Option<Decision> {
+        self.find(id)
+            .map(|r| merge(r.operator_decision, r.policy, r.module_decision))
+    }
+
+    fn outputs(&self, out: &mut Outputs) {
+        out.statuses.clear();
+        out.velocity.clear();
+        out.steering.clear();
+        self.push_outputs(out);
+        sort_factors(out);
+    }
+
+    fn set_commands(&mut self, commands: Vec<Command>) -> bool {
+        // Upstream validates every command (one search each), then applies the valid ones
+        // (another search each).
+        let responses: Vec<bool> = commands.iter().map(|c| self.accepts(c)).collect();
+        for command in &commands {
+            self.command(command);
+        }
+        responses.iter().all(|ok| *ok)
+    }
+
+    fn set_policies(&mut self, policies: Vec<PolicySetting>) -> bool {
+        let mut success = true;
+        for setting in &policies {
+            success &= self.policy(*setting);
+        }
+        success
+    }
+
+    fn retired_capacity(&self) -> usize {
+        0
+    }
+}
+
+impl LinearRegistry {
+    /// Whether a command for this scene would be accepted.
+    fn accepts(&self, command: &Command) -> bool {
+        self.find(command.id)
+            .is_some_and(|r| r.phase.is_cancellable())
+    }
+
+    /// Applies a command if its scene is here and cancellable.
+    fn command(&mut self, command: &Command) {
+        if let Some(record) = self.find_mut(command.id) {
+            if record.phase.is_cancellable() {
+                record.operator_decision = command.decision;
+            }
+        }
+    }
+
+    /// Sets a module's policy, for new scenes and every record of the module. Whether the
+    /// module is known.
+    fn policy(&mut self, setting: PolicySetting) -> bool {
+        let known = match self.defaults.iter_mut().find(|(m, _)| *m == setting.module) {
+            Some((_, policy)) => {
+                *policy = setting.policy;
+                true
+            }
+            None => false,
+        };
+        for record in &mut self.records {
+            if record.module == setting.module {
+                record.policy = setting.policy;
+            }
+        }
+        known
+    }
+
+    /// Appends every record's status and factor, in record order.
+    fn push_outputs(&self, out: &mut Outputs) {
+        for record in &self.records {
+            let cooperation = record.status();
+            out.statuses.push(cooperation);
+            let Module { behavior, sequence } = record.module;
+            match record.geometry {
+                Geometry::Velocity {
+                    pose,
+                    distance,
+                    status,
+                } => out.velocity.push(VelocityFactor {
+                    pose,
+                    distance,
+                    status,
+                    behavior,
+                    sequence,
+                    cooperation,
+                }),
+                Geometry::Steering {
+                    poses,
+                    distances,
+                    direction,
+                    status,
+                } => out.steering.push(SteeringFactor {
+                    poses,
+                    distances,
+                    direction,
+                    status,
+                    behavior,
+                    sequence,
+                    cooperation,
+                }),
+            }
+        }
+    }
+}
+
+/// Sorts the factor lists nearest first: the same ordering, by the same sort, as the library,
+/// so that only the registry differs.
+fn sort_factors(out: &mut Outputs) {
+    out.velocity.sort_unstable_by(|a, b| {
+        a.distance
+            .total_cmp(&b.distance)
+            .then(a.cooperation.id.cmp(&b.cooperation.id))
+    });
+    out.steering.sort_unstable_by(|a, b| {
+        a.distances[0]
+            .total_cmp(&b.distances[0])
+            .then(a.cooperation.id.cmp(&b.cooperation.id))
+    });
+}
+
+/// The baseline closer to upstream's layout: one [`LinearRegistry`] per module, as every
+/// planning module has its own `RTCInterface`. Owners and policies reach their module's
+/// vector directly; an AD API command names only a UUID, so it searches every module's.
+#[derive(Debug)]
+pub struct PerModuleRegistry {
+    modules: Vec<(Module, LinearRegistry)>,
+}
+
+impl PerModuleRegistry {
+    fn part(&self, module: Module) -> Option<&LinearRegistry> {
+        self.modules
+            .iter()
+            .find(|(m, _)| *m == module)
+            .map(|(_, part)| part)
+    }
+
+    fn part_mut(&mut self, module: Module) -> Option<&mut LinearRegistry> {
+        self.modules
+            .iter_mut()
+            .find(|(m, _)| *m == module)
+            .map(|(_, part)| part)
+    }
+}
+
+impl Registry for PerModuleRegistry {
+    fn new(modules: &[(Module, Policy, FactorKind)], scenes: usize) -> Self {
+        Self {
+            modules: modules
+                .iter()
+                .map(|&one| (one.0, LinearRegistry::new(&[one], scenes)))
+                .collect(),
+        }
+    }
+
+    fn register(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool {
+        self.part_mut(module)
+            .is_some_and(|part| part.register(id, module, decision, geometry))
+    }
+
+    fn update(
+        &mut self,
+        id: SceneId,
+        module: Module,
+        phase: Phase,
+        decision: Decision,
+        geometry: Geometry,
+    ) -> bool {
+        self.part_mut(module)
+            .is_some_and(|part| part.update(id, module, phase, decision, geometry))
+    }
+
+    fn remove(&mut self, id: SceneId, module: Module) -> bool {
+        self.part_mut(module)
+            .is_some_and(|part| part.remove(id, module))
+    }
+
+    fn tick(&mut self, elapsed_ms: u64) -> bool {
+        for (_, part) in &mut self.modules {
+            part.tick(elapsed_ms);
+        }
+        true
+    }
+
+    fn merged_decision(&self, id: SceneId, module: Module) -> Option<Decision> {
+        self.part(module)?.merged_decision(id, module)
+    }
+
+    fn outputs(&self, out: &mut Outputs) {
+        out.statuses.clear();
+        out.velocity.clear();
+        out.steering.clear();
+        for (_, part) in &self.modules {
+            part.push_outputs(out);
+        }
+        sort_factors(out);
+    }
+
+    fn set_commands(&mut self, commands: Vec<Command>) -> bool {
+        let responses: Vec<bool> = commands
+            .iter()
+            .map(|c| self.modules.iter().any(|(_, part)| part.accepts(c)))
+            .collect();
+        for command in &commands {
+            for (_, part) in &mut self.modules {
+                part.command(command);
+            }
+        }
+        responses.iter().all(|ok| *ok)
+    }
+
+    fn set_policies(&mut self, policies: Vec<PolicySetting>) -> bool {
+        let mut success = true;
+        for setting in &policies {
+            success &= self
+                .part_mut(setting.module)
+                .is_some_and(|part| part.policy(*setting));
+        }
+        success
+    }
+
+    fn retired_capacity(&self) -> usize {
+        0
+    }
+}
+
+/// A planner with live scenes, driven through a [`Registry`].
+#[derive(Debug)]
+pub struct Planner<R> {
+    /// The registry.
+    pub registry: R,
+    /// The owners of the live scenes, oldest first.
+    pub owners: VecDeque<Owner>,
+    modules: Vec<(Module, Policy, FactorKind)>,
+    cycle: u64,
+    next: u64,
+}
+
+impl<R: Registry> Planner<R> {
+    /// `scenes` live scenes spread over [`MODULES`] round robin; half of them running; one in
+    /// five with an operator decision.
+    pub fn new(scenes: usize) -> Self {
+        Self::with_modules(&MODULES, scenes)
+    }
+
+    /// `scenes` live scenes spread over `modules` round robin; half of them running; one in
+    /// five with an operator decision.
+    pub fn with_modules(modules: &[(Module, Policy, FactorKind)], scenes: usize) -> Self {
+        let mut planner = Self {
+            registry: R::new(modules, scenes),
+            owners: VecDeque::with_capacity(scenes),
+            modules: modules.to_vec(),
+            cycle: 0,
+            next: 0,
+        };
+        for _ in 0..scenes {
+            planner.open();
+        }
+        for (at, owner) in planner.owners.iter_mut().enumerate() {
+            owner.running = at % 2 == 1;
+            let accepted = planner.registry.update(
+                owner.id,
+                owner.module,
+                owner.phase(),
+                owner.decision(0),
+                owner.geometry(0),
+            );
+            assert!(accepted, "setting up the benchmark's scenes");
+        }
+        let commands: Vec<Command> = planner
+            .owners
+            .iter()
+            .step_by(5)
+            .enumerate()
+            .map(|(at, owner)| Command {
+                id: owner.id,
+                decision: if at % 2 == 0 {
+                    OperatorDecision::Activate
+                } else {
+                    OperatorDecision::Deactivate
+                },
+            })
+            .collect();
+        assert!(
+            planner.registry.set_commands(commands),
+            "setting up commands"
+        );
+        planner
+    }
+
+    /// A new owner registers a scene, of the next module round robin.
+    fn open(&mut self) {
+        let n = self.next;
+        self.next += 1;
+        let (module, _, kind) = self.modules[n as usize % self.modules.len()];
+        let owner = Owner::of_module(n, module, kind);
+        let accepted =
+            self.registry
+                .register(owner.id, owner.module, owner.decision(0), owner.geometry(0));
+        assert!(accepted, "registering a fresh identifier");
+        self.owners.push_back(owner);
+    }
+
+    /// One planning cycle: time passes, every owner updates its scene, the planner reads every
+    /// merged decision, and the statuses and factor lists are produced into `out`.
+    pub fn cycle(&mut self, out: &mut Outputs) -> Summary {
+        self.cycle += 1;
+        let cycle = self.cycle;
+        self.registry.tick(CYCLE_MS);
+        let mut accepted = 0;
+        for owner in &self.owners {
+            let ok = self.registry.update(
+                owner.id,
+                owner.module,
+                owner.phase(),
+                owner.decision(cycle),
+                owner.geometry(cycle),
+            );
+            accepted += usize::from(ok);
+        }
+        let mut activated = 0;
+        for owner in &self.owners {
+            let merged = self.registry.merged_decision(owner.id, owner.module);
+            let activate = merged == Some(Decision::Activate);
+            activated += usize::from(activate);
+        }
+        self.registry.outputs(out);
+        Summary {
+            accepted,
+            activated,
+            statuses: out.statuses.len(),
+            factors: out.velocity.len() + out.steering.len(),
+        }
+    }
+
+    /// Registration and retirement churn: the oldest scene's owner removes it and a new owner
+    /// registers a scene under a fresh identifier, so the number of live scenes stays put.
+    pub fn churn(&mut self) {
+        if let Some(oldest) = self.owners.pop_front() {
+            let removed = self.registry.remove(oldest.id, oldest.module);
+            debug_assert!(removed);
+        }
+        self.open();
+    }
+
+    /// Churns until the registry's memory of retired identifiers is full, so that every later
+    /// churn also forgets the oldest one: the steady state of a long-running planner.
+    pub fn fill_retired(&mut self) {
+        for _ in 0..self.registry.retired_capacity() {
+            self.churn();
+        }
+    }
+
+    /// `k` commands, all with `decision`, for `k` live scenes spread evenly over the live
+    /// ones, each in the middle of its stretch (so that a linear search meets them at
+    /// average depth, not all near the front).
+    pub fn commands(&self, k: usize, decision: OperatorDecision) -> Vec<Command> {
+        let step = (self.owners.len() / k.max(1)).max(1);
+        self.owners
+            .iter()
+            .skip(step / 2)
+            .step_by(step)
+            .take(k)
+            .map(|owner| Command {
+                id: owner.id,
+                decision,
+            })
+            .collect()
+    }
+}
