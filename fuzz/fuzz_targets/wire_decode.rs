@@ -14,7 +14,10 @@ fn fixpoint<T: DeserializeOwned + Serialize>(data: &[u8]) -> Option<T> {
         Ok(again) => assert_eq!(to_json(&again), first, "not a fixpoint"),
         // JSON has no infinity: a float32 field given a number beyond its range is infinite
         // and written as null, which does not read back.
-        Err(_) => assert!(first.windows(4).any(|w| w == b"null"), "written JSON does not read back"),
+        Err(_) => assert!(
+            first.windows(4).any(|w| w == b"null"),
+            "written JSON does not read back"
+        ),
     }
     Some(message)
 }

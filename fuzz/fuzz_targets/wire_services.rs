@@ -5,17 +5,30 @@
 #![no_main]
 
 use cooperation::wire::Service;
-use cooperation::{Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, SceneId, State};
+use cooperation::{
+    Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, SceneId, State,
+};
 use libfuzzer_sys::fuzz_target;
 
 fn start() -> State {
     let lane_change = Module::new(Behavior::LaneChange);
     let avoidance = Module::new(Behavior::Avoidance);
     let config = Config {
-        policies: [(lane_change, Policy::Optional), (avoidance, Policy::Required)].into(),
-        limits: Limits { ttl_ms: 1_000, max_scenes: 8, retired_capacity: 8, max_batch: 16 },
+        policies: [
+            (lane_change, Policy::Optional),
+            (avoidance, Policy::Required),
+        ]
+        .into(),
+        limits: Limits {
+            ttl_ms: 1_000,
+            max_scenes: 8,
+            retired_capacity: 8,
+            max_batch: 16,
+        },
     };
-    let Ok(mut state) = State::new(config) else { unreachable!("a valid configuration") };
+    let Ok(mut state) = State::new(config) else {
+        unreachable!("a valid configuration")
+    };
     for n in 1..=3u128 {
         let register = Input::Register {
             id: SceneId::from_u128(n),
@@ -32,7 +45,9 @@ fn start() -> State {
 fuzz_target!(|data: &[u8]| {
     let mut state = start();
     for chunk in data.split(|b| *b == b'\n') {
-        let Some((&selector, body)) = chunk.split_first() else { continue };
+        let Some((&selector, body)) = chunk.split_first() else {
+            continue;
+        };
         match selector % 4 {
             3 => {
                 if let Ok(input) = serde_json::from_slice::<Input>(body) {
