@@ -100,7 +100,7 @@ const QUICK: &[Config] = &[
 
 /// The larger configurations `--full` adds, on 2 threads, each stopped after `timeout_s`.
 const FULL: &[Config] = &[
-    large("sequential", "2 × 3", "BFS", &["--no-symmetry"], 300),
+    large("sequential", "2 × 3", "BFS", &["--no-symmetry"], 240),
     large(
         "sequential",
         "3 × 3",

@@ -107,7 +107,7 @@ pub struct Report {
     pub generated: usize,
     /// The deepest path.
     pub depth: usize,
-    /// Wall time.
+    /// Wall time of the search (the counterexample searches after it not included).
     pub elapsed: Duration,
     /// Whether the search ran to completion.
     pub complete: bool,
@@ -220,6 +220,9 @@ where
         }
         Strategy::Bfs => Box::new(builder.spawn_bfs().join_and_report(&mut reporter)),
     };
+    // The checker's own clock at its final report: the search alone, without the wait for the
+    // reporter's next one-second tick that `join_and_report` adds.
+    let searched = reporter.last.map_or_else(|| start.elapsed(), |(duration, _)| duration);
     let discoveries = checker.discoveries();
     let outcomes = model
         .properties()
@@ -246,7 +249,7 @@ where
         unique: checker.unique_state_count(),
         generated: checker.state_count(),
         depth: checker.max_depth(),
-        elapsed: start.elapsed(),
+        elapsed: searched,
         complete: checker.is_done(),
         outcomes,
     }
