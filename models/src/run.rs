@@ -222,7 +222,9 @@ where
     };
     // The checker's own clock at its final report: the search alone, without the wait for the
     // reporter's next one-second tick that `join_and_report` adds.
-    let searched = reporter.last.map_or_else(|| start.elapsed(), |(duration, _)| duration);
+    let searched = reporter
+        .last
+        .map_or_else(|| start.elapsed(), |(duration, _)| duration);
     let discoveries = checker.discoveries();
     let outcomes = model
         .properties()

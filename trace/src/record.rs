@@ -207,13 +207,29 @@ fn observed_statuses(values: &[serde_json::Value]) -> Result<Vec<CooperationStat
 }
 
 /// Parses one observed status. Every form of status a trace accepts is decoded here and
-/// nowhere else; today that is the core's `CooperationStatus` in its serde form:
-/// `{"id": "<uuid>", "module_decision": "Activate", "operator_decision": "Undecided",
-/// "cancellable": true}` (other fields, such as those of a replay's JSON output, are ignored).
+/// nowhere else. Two forms:
+/// - the core's `CooperationStatus` in its serde form: `{"id": "<uuid>", "module_decision":
+///   "Activate", "operator_decision": "Undecided", "cancellable": true}` (other fields, such as
+///   those of a replay's JSON output, are ignored);
+/// - the AD API message as rosbridge writes it (a status taken from a recorded factor's
+///   `cooperation`): `{"uuid": {"uuid": [16 numbers] or "<base64>"}, "autonomous":
+///   {"decision": 2}, "cooperator": {"decision": 4}, "cancellable": true}`, told apart by its
+///   `uuid` field and parsed by `cooperation::wire`.
 ///
 /// # Errors
 /// [`ErrorKind::Json`] naming the field, relative to the status.
 pub fn parse_status(value: &serde_json::Value) -> Result<CooperationStatus, ErrorKind> {
+    if value.get("uuid").is_some() {
+        let wire: cooperation::wire::CooperationStatus = serde_path_to_error::deserialize(value)
+            .map_err(|error| ErrorKind::Json {
+                field: field_path(error.path()),
+                message: error.into_inner().to_string(),
+            })?;
+        return CooperationStatus::try_from(&wire).map_err(|malformed| ErrorKind::Json {
+            field: String::new(),
+            message: malformed.to_string(),
+        });
+    }
     serde_path_to_error::deserialize(value).map_err(|error| ErrorKind::Json {
         field: field_path(error.path()),
         message: error.into_inner().to_string(),

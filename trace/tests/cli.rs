@@ -192,6 +192,46 @@ fn validate_conforming_traces_exit_zero() {
     );
 }
 
+/// Statuses as the AD API reports them (rosbridge JSON; UUIDs as numbers and as base64) are
+/// read as well as the core's form, and a departure in that form is found.
+#[test]
+fn validate_reads_statuses_in_the_ad_api_form() {
+    let output = run_file(&["validate"], "seed-conforming-wire.jsonl");
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert_eq!(
+        stdout(&output),
+        "conforms: 7 steps, 3 observations agree with the spec\n"
+    );
+    let text = std::fs::read_to_string(data("seed-conforming-wire.jsonl")).expect("reads");
+    // The operator's ACTIVATE (2) reported as UNDECIDED (4) after the command.
+    let departed = text.replacen(
+        r#""cooperator": {"decision": 2}"#,
+        r#""cooperator": {"decision": 4}"#,
+        1,
+    );
+    assert_ne!(departed, text);
+    let output = run(&["validate", "-"], &departed);
+    assert_eq!(output.status.code(), Some(1), "{}", stdout(&output));
+    assert!(
+        stdout(&output).contains("operator_decision: expected activate, observed none"),
+        "{}",
+        stdout(&output)
+    );
+    // A malformed AD API status names its field.
+    let broken = text.replacen(
+        r#""autonomous": {"decision": 1}"#,
+        r#""autonomous": {"decision": 9}"#,
+        1,
+    );
+    let output = run(&["validate", "-"], &broken);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("autonomous"),
+        "{}",
+        stderr(&output)
+    );
+}
+
 #[test]
 fn validate_reports_the_first_departure() {
     let output = run_file(&["validate"], "policy-clobber-departs.jsonl");
