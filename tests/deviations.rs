@@ -148,6 +148,29 @@ fn coop_dev_race_1() {
     .expect("thread");
     here.apply(&input).expect("applies");
     assert_eq!(here, there);
+    // Shared: two threads through one handle, each input whole; the full hammering is in
+    // tests/concurrency.rs.
+    let shared = std::sync::Arc::new(Shared::new(with_scenes()));
+    let other = std::sync::Arc::clone(&shared);
+    let operator = std::thread::spawn(move || {
+        other.set_commands(vec![Command {
+            id: id(1),
+            decision: OperatorDecision::Deactivate,
+        }])
+    });
+    let owner = shared.apply(&update(
+        id(1),
+        LANE_CHANGE,
+        Phase::Running,
+        Decision::Activate,
+    ));
+    assert!(operator.join().expect("thread").status.success);
+    assert_eq!(owner.map(|t| t.rule), Ok(Rule::OwnerUpdate));
+    let scene = shared.snapshot().scene(id(1)).cloned().expect("live");
+    assert_eq!(
+        (scene.phase(), scene.operator_decision()),
+        (Phase::Running, OperatorDecision::Deactivate)
+    );
 }
 
 /// `[COOP-DEV-IMPLICIT-REGISTER.1]`: an update for an unknown identifier is rejected, and a

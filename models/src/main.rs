@@ -4,7 +4,7 @@
 //! cooperation-models check   [--model sequential|network] [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
-//! cooperation-models reach   [--full] [--write FILE]
+//! cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
 //! cooperation-models replay  FILE
 //! ```
@@ -37,7 +37,7 @@ const USAGE: &str = "usage:
                              [--no-symmetry] [--fault NAME] [--out DIR]
                              [--timeout SECONDS] [--summary]
   cooperation-models check   --model trivial [--threads T] [--bytes B]
-  cooperation-models reach   [--full] [--write FILE]
+  cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
   cooperation-models diagrams [--check]

@@ -141,20 +141,26 @@ const fn large(
     }
 }
 
-/// `reach [--full] [--write FILE]`.
+/// `reach [--full] [--only BOUNDS] [--write FILE]`; `--only "3 × 4"` runs the configurations
+/// with those bounds alone.
 pub(crate) fn run(args: &[String]) -> Result<bool, String> {
     let mut full = false;
     let mut write = None;
+    let mut only = None;
     let mut rest = args.iter();
     while let Some(flag) = rest.next() {
         match flag.as_str() {
             "--full" => full = true,
+            "--only" => only = Some(rest.next().ok_or("--only needs bounds")?.clone()),
             "--write" => write = Some(rest.next().ok_or("--write needs a file")?.clone()),
             other => return Err(format!("unknown option {other:?}")),
         }
     }
     let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
-    let configs = QUICK.iter().chain(if full { FULL } else { &[] });
+    let configs = QUICK
+        .iter()
+        .chain(if full || only.is_some() { FULL } else { &[] })
+        .filter(|c| only.as_ref().map_or(true, |o| c.bounds == o.as_str()));
     let mut table = String::from(
         "| model | bounds (modules × ids) | search | threads | unique states | generated | \
          time | unique/s | generated/s | peak RSS | bytes/unique state | complete |\n\
@@ -172,17 +178,10 @@ pub(crate) fn run(args: &[String]) -> Result<bool, String> {
                 "reach: {} {} {}, {threads} thread(s)",
                 config.model, config.bounds, config.search
             );
-            let output = command
-                .stderr(std::process::Stdio::inherit())
-                .output()
-                .map_err(|e| format!("cannot run the check: {e}"))?;
-            let stdout = String::from_utf8_lossy(&output.stdout);
-            let summary: Summary = stdout
-                .lines()
-                .find_map(|l| l.strip_prefix("summary: "))
-                .ok_or_else(|| format!("the check printed no summary:\n{stdout}"))
-                .and_then(|json| serde_json::from_str(json).map_err(|e| e.to_string()))?;
-            let row = row(config, threads, &summary);
+            let row = match measure(&mut command)? {
+                Measured::Summary(summary) => row(config, threads, &summary),
+                Measured::Died { how, last } => died(config, threads, &how, &last),
+            };
             eprint!("{row}");
             table += &row;
         }
@@ -193,6 +192,70 @@ pub(crate) fn run(args: &[String]) -> Result<bool, String> {
         println!("wrote {file}");
     }
     Ok(true)
+}
+
+/// What a child check came to.
+enum Measured {
+    Summary(Summary),
+    /// It ended without a summary (killed, say for want of memory): how, and its last progress
+    /// line.
+    Died {
+        how: String,
+        last: String,
+    },
+}
+
+/// Runs the child, passing its progress through and keeping the last progress line.
+fn measure(command: &mut Command) -> Result<Measured, String> {
+    use std::io::BufRead;
+    let mut child = command
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot run the check: {e}"))?;
+    let mut last = String::new();
+    if let Some(stderr) = child.stderr.take() {
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            eprintln!("{line}");
+            if line.starts_with("checking:") || line.starts_with("done:") {
+                last = line;
+            }
+        }
+    }
+    let output = child
+        .wait_with_output()
+        .map_err(|e| format!("cannot run the check: {e}"))?;
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let summary = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("summary: "))
+        .map(serde_json::from_str::<Summary>);
+    Ok(match summary {
+        Some(summary) => Measured::Summary(summary.map_err(|e| e.to_string())?),
+        None => {
+            use std::os::unix::process::ExitStatusExt;
+            let how = match output.status.signal() {
+                Some(9) => "killed (signal 9; out of memory?)".to_owned(),
+                Some(signal) => format!("killed (signal {signal})"),
+                None => format!("failed ({})", output.status),
+            };
+            Measured::Died { how, last }
+        }
+    })
+}
+
+/// The row of a check that died: what its last progress line said.
+fn died(config: &Config, threads: usize, how: &str, last: &str) -> String {
+    format!(
+        "| {} | {} | {} | {threads} | — | — | — | — | — | — | — | no: {how}; last progress: {} |\n",
+        config.model,
+        config.bounds,
+        config.search,
+        if last.is_empty() { "none" } else { last }
+    )
 }
 
 fn row(config: &Config, threads: usize, s: &Summary) -> String {

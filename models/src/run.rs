@@ -252,7 +252,9 @@ where
         generated: checker.state_count(),
         depth: checker.max_depth(),
         elapsed: searched,
-        complete: checker.is_done(),
+        // A time limit also ends the search with `is_done()`; a search that ran for the whole
+        // limit is counted as stopped, not complete.
+        complete: checker.is_done() && limit.map_or(true, |limit| searched < limit),
         outcomes,
     }
 }
