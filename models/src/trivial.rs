@@ -54,6 +54,10 @@ impl Model for TrivialModel {
         Some(state)
     }
 
+    /// One property, evaluated in every state as the sequential model's are, so that the
+    /// checker does comparable work per state. It is workload, not a check: `next_state` keeps
+    /// every counter in range by construction. What a run checks is that it visits exactly
+    /// `base ^ digits` states (see `run_trivial` in the checker command).
     fn properties(&self) -> Vec<Property<Self>> {
         vec![Property::always(
             "in range",
