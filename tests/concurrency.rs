@@ -147,8 +147,7 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                 if response.status.success {
                     accepted += 1;
                     for command in &batch {
-                        let n =
-                            (u128::from_be_bytes(*command.id.as_bytes()) & 0xffff_ffff) as usize;
+                        let n = (command.id.to_u128() & 0xffff_ffff) as usize;
                         last[n] = Some(command.decision);
                     }
                 } else {

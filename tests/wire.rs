@@ -329,7 +329,7 @@ fn an_empty_state_streams_empty_arrays() {
 
 /// A UUID's bytes as the JSON list.
 fn list(id: SceneId) -> String {
-    format!("{:?}", id.as_bytes())
+    format!("{:?}", id.to_bytes())
 }
 
 /// Sends `request` to `service` as JSON, asserting a `PARAMETER_ERROR` whose message is
@@ -469,7 +469,7 @@ fn the_first_fault_in_batch_order_is_named() {
 #[test]
 fn uuids_of_the_wrong_length_are_refused() {
     let mut state = with_scenes();
-    let a = A.as_bytes();
+    let a = A.to_bytes();
     let short = format!("{:?}", &a[..15]);
     let long = format!("{:?}", [&a[..], &[0]].concat());
     for (uuid, len) in [

@@ -304,7 +304,7 @@ pub struct Ghost {
 /// The model's index of an identifier: its number minus one.
 #[must_use]
 pub fn index(id: SceneId) -> Option<usize> {
-    let number = u128::from_be_bytes(*id.as_bytes());
+    let number = id.to_u128();
     usize::try_from(number)
         .ok()
         .and_then(|n| n.checked_sub(1))

@@ -356,7 +356,7 @@ fn scenes(
 /// A scene identifier as the model's small number.
 #[must_use]
 pub fn short(id: SceneId) -> String {
-    let value = u128::from_be_bytes(*id.as_bytes());
+    let value = id.to_u128();
     format!("#{value}")
 }
 

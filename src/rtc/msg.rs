@@ -24,7 +24,7 @@ pub struct Uuid {
 impl From<SceneId> for Uuid {
     fn from(id: SceneId) -> Self {
         Self {
-            uuid: *id.as_bytes(),
+            uuid: id.to_bytes(),
         }
     }
 }

@@ -42,7 +42,7 @@ impl TryFrom<&Uuid> for SceneId {
 impl From<SceneId> for Uuid {
     fn from(id: SceneId) -> Self {
         Self {
-            uuid: id.as_bytes().to_vec(),
+            uuid: id.to_bytes().to_vec(),
         }
     }
 }

@@ -539,7 +539,7 @@ fn differences_explain_each_field() {
         .iter()
         .map(|d| {
             (
-                u128::from_be_bytes(*d.id.as_bytes()),
+                d.id.to_u128(),
                 d.field,
                 d.expected.as_str(),
                 d.observed.as_str(),
