@@ -62,6 +62,7 @@ pub mod rtc;
 mod rule;
 mod shared;
 mod state;
+mod table;
 #[cfg(feature = "wire")]
 pub mod wire;
 
@@ -74,7 +75,8 @@ pub use input::{Command, Input, PolicySetting};
 pub use invariant::{Invariant, Violation};
 pub use module::{Behavior, Module, Sequence, UnknownName};
 pub use output::{
-    CommandsResponse, CooperationStatus, ResponseStatus, SteeringFactor, VelocityFactor,
+    CommandsResponse, CooperationStatus, FactorLists, ResponseStatus, SteeringFactor,
+    VelocityFactor,
 };
 pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};

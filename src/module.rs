@@ -212,6 +212,24 @@ impl Module {
     }
 }
 
+impl Module {
+    /// How many modules there are: every behaviour with every sequence.
+    pub(crate) const COUNT: usize = Behavior::ALL.len() * Sequence::ALL.len();
+
+    /// The module's place in module order, below [`COUNT`](Self::COUNT): a dense index for
+    /// per-module tables.
+    pub(crate) const fn index(self) -> usize {
+        self.behavior as usize * Sequence::ALL.len() + self.sequence as usize
+    }
+
+    /// The module at `index` of module order.
+    pub(crate) fn at_index(index: usize) -> Option<Self> {
+        let behavior = *Behavior::ALL.get(index / Sequence::ALL.len())?;
+        let sequence = *Sequence::ALL.get(index % Sequence::ALL.len())?;
+        Some(Self { behavior, sequence })
+    }
+}
+
 impl fmt::Display for Module {
     /// `lane-change`, or `avoidance/change` when the sequence is not empty.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -251,6 +269,17 @@ mod tests {
                 given: "back".into()
             })
         );
+    }
+
+    #[test]
+    fn module_index_is_dense_and_in_module_order() {
+        let modules: Vec<Module> = (0..Module::COUNT).filter_map(Module::at_index).collect();
+        assert_eq!(modules.len(), Module::COUNT);
+        assert_eq!(Module::at_index(Module::COUNT), None);
+        for (index, module) in modules.iter().enumerate() {
+            assert_eq!(module.index(), index);
+        }
+        assert!(modules.windows(2).all(|pair| pair[0] < pair[1]));
     }
 
     #[test]

@@ -92,7 +92,7 @@ impl State {
     /// first (`[COOP-OUT-ORDER.1]`). Allocates only if `out` has too little capacity.
     pub fn velocity_factors_into(&self, out: &mut Vec<VelocityFactor>) {
         out.clear();
-        for (id, scene) in self.scenes() {
+        for (id, scene) in self.scenes_in_any_order() {
             if let Geometry::Velocity {
                 pose,
                 distance,
@@ -112,7 +112,7 @@ impl State {
         out.sort_unstable_by(|a, b| {
             a.distance
                 .total_cmp(&b.distance)
-                .then(a.cooperation.id.cmp(&b.cooperation.id))
+                .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
         });
     }
 
@@ -120,7 +120,7 @@ impl State {
     /// start first (`[COOP-OUT-ORDER.1]`). Allocates only if `out` has too little capacity.
     pub fn steering_factors_into(&self, out: &mut Vec<SteeringFactor>) {
         out.clear();
-        for (id, scene) in self.scenes() {
+        for (id, scene) in self.scenes_in_any_order() {
             if let Geometry::Steering {
                 poses,
                 distances,
@@ -144,8 +144,115 @@ impl State {
             let [b_start, _] = b.distances;
             a_start
                 .total_cmp(&b_start)
-                .then(a.cooperation.id.cmp(&b.cooperation.id))
+                .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
         });
+    }
+
+    /// Fills `lists` with both factor lists, ordered as [`velocity_factors_into`] and
+    /// [`steering_factors_into`] order them (`[COOP-OUT-ORDER.1]`), and returns nothing else.
+    ///
+    /// The form for a planning cycle: it sorts small keys kept in `lists` and then writes each
+    /// factor once in its place, where the two functions above sort the factors themselves.
+    /// Allocates only if a buffer of `lists` has too little capacity, so a planner that keeps
+    /// one `FactorLists` from cycle to cycle allocates nothing once it has grown.
+    ///
+    /// [`velocity_factors_into`]: Self::velocity_factors_into
+    /// [`steering_factors_into`]: Self::steering_factors_into
+    pub fn factors_into(&self, lists: &mut FactorLists) {
+        let FactorLists {
+            velocity,
+            steering,
+            keys,
+        } = lists;
+        velocity.clear();
+        steering.clear();
+        // [COOP-OUT-ORDER.1] Velocity scenes, nearest first; ties by identifier.
+        self.sort_keys(keys, |scene| match scene.geometry() {
+            Geometry::Velocity { distance, .. } => Some(*distance),
+            Geometry::Steering { .. } => None,
+        });
+        for (id, scene) in keys.iter().filter_map(|&key| self.keyed_scene(key)) {
+            if let Geometry::Velocity {
+                pose,
+                distance,
+                status,
+            } = scene.geometry()
+            {
+                velocity.push(VelocityFactor {
+                    pose: *pose,
+                    distance: *distance,
+                    status: *status,
+                    behavior: scene.module().behavior,
+                    sequence: scene.module().sequence,
+                    cooperation: CooperationStatus::of(id, scene),
+                });
+            }
+        }
+        // [COOP-OUT-ORDER.1] Steering scenes, nearest start first; ties by identifier.
+        self.sort_keys(keys, |scene| match scene.geometry() {
+            Geometry::Steering {
+                distances: [start, _],
+                ..
+            } => Some(*start),
+            Geometry::Velocity { .. } => None,
+        });
+        for (id, scene) in keys.iter().filter_map(|&key| self.keyed_scene(key)) {
+            if let Geometry::Steering {
+                poses,
+                distances,
+                direction,
+                status,
+            } = scene.geometry()
+            {
+                steering.push(SteeringFactor {
+                    poses: *poses,
+                    distances: *distances,
+                    direction: *direction,
+                    status: *status,
+                    behavior: scene.module().behavior,
+                    sequence: scene.module().sequence,
+                    cooperation: CooperationStatus::of(id, scene),
+                });
+            }
+        }
+    }
+
+    /// Fills `keys` with one key for each live scene `distance` gives a distance for, sorted
+    /// as `[COOP-OUT-ORDER.1]` orders the scenes: the distance's place in IEEE 754 total order
+    /// in the high half, the scene's position in the table in the low half, and runs of equal
+    /// distances re-sorted by identifier.
+    fn sort_keys(&self, keys: &mut Vec<u64>, distance: impl Fn(&Scene) -> Option<Distance>) {
+        keys.clear();
+        for (position, (_, scene)) in self.scenes_in_any_order().enumerate() {
+            let (Some(Distance(metres)), Ok(position)) = (distance(scene), u32::try_from(position))
+            else {
+                continue;
+            };
+            keys.push((u64::from(total_order_key(metres)) << 32) | u64::from(position));
+        }
+        keys.sort_unstable();
+        // Equal distances: by identifier, not by position. Rare, so found by a scan.
+        let mut start = 0;
+        while start < keys.len() {
+            let distance_of = |key: u64| key >> 32;
+            let run_key = keys.get(start).copied().map(distance_of);
+            let len = keys
+                .iter()
+                .skip(start)
+                .take_while(|&&key| Some(distance_of(key)) == run_key)
+                .count();
+            if len > 1 {
+                if let Some(run) = keys.get_mut(start..start + len) {
+                    run.sort_unstable_by_key(|&key| self.keyed_scene(key).map(|(id, _)| id));
+                }
+            }
+            start += len.max(1);
+        }
+    }
+
+    /// The scene a key of [`sort_keys`](Self::sort_keys) names.
+    fn keyed_scene(&self, key: u64) -> Option<(SceneId, &Scene)> {
+        self.scene_at((key & u64::from(u32::MAX)) as usize)
     }
 
     /// The AD API `set_commands` call (`[COOP-API-SET-COMMANDS.1]`): applies the batch, all or
@@ -176,6 +283,29 @@ impl State {
     #[must_use]
     pub fn get_policies(&self) -> (ResponseStatus, Vec<PolicySetting>) {
         (ResponseStatus::success(), self.policies().collect())
+    }
+}
+
+/// Caller-owned buffers for both factor lists, filled by [`State::factors_into`] and reused
+/// cycle after cycle.
+#[derive(Clone, Default, Debug)]
+pub struct FactorLists {
+    /// The velocity factors, nearest first (`[COOP-OUT-ORDER.1]`).
+    pub velocity: Vec<VelocityFactor>,
+    /// The steering factors, nearest start first (`[COOP-OUT-ORDER.1]`).
+    pub steering: Vec<SteeringFactor>,
+    /// Sort keys, kept only so that their memory is reused.
+    keys: Vec<u64>,
+}
+
+/// A distance's place in IEEE 754 total order, as an unsigned number: the order `f32::total_cmp`
+/// gives (`-NaN`, `-inf`, …, `-0.0`, `0.0`, …, `inf`, `NaN`).
+fn total_order_key(metres: f32) -> u32 {
+    let bits = metres.to_bits();
+    if bits >> 31 == 1 {
+        !bits
+    } else {
+        bits | (1 << 31)
     }
 }
 

@@ -5,6 +5,8 @@
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
+use crate::table::IdTable;
+
 use crate::{
     merge, Command, CommandFailure, CommandOutcome, Decision, Geometry, Input, Invariant, Module,
     OperatorDecision, Phase, Policy, PolicySetting, Rejection, RetireReason, Retirement, Rule,
@@ -207,15 +209,21 @@ impl Transition {
 
 /// What an accepted input will write, as decided by `State::decide`.
 enum Plan<'a> {
-    /// `[COOP-REG-NEW.1]`.
-    Register { id: SceneId, scene: Scene },
-    /// `[COOP-OWN-UPDATE.1]`.
-    Update {
+    /// `[COOP-REG-NEW.1]`: the new scene, waiting, undecided and not yet aged.
+    Register {
         id: SceneId,
+        module: Module,
+        decision: Decision,
+        requested: bool,
+        geometry: &'a Geometry,
+    },
+    /// `[COOP-OWN-UPDATE.1]`, for the scene at `at` in the table: found once, by `decide`.
+    Update {
+        at: usize,
         phase: Phase,
         decision: Decision,
         requested: bool,
-        geometry: Geometry,
+        geometry: &'a Geometry,
     },
     /// `[COOP-OWN-FINISH.1]` or `[COOP-OWN-REMOVE.1]`.
     Retire {
@@ -234,6 +242,50 @@ enum Plan<'a> {
     Policies(&'a [PolicySetting]),
 }
 
+/// Every module's policy, `None` for a module that does not support cooperation: one slot per
+/// module, found by [`Module::index`] without a search.
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct Policies([Option<Policy>; Module::COUNT]);
+
+impl Policies {
+    /// The policy of `module`, if it supports cooperation.
+    fn get(&self, module: Module) -> Option<Policy> {
+        self.0.get(module.index()).copied().flatten()
+    }
+
+    /// The policy of `module`, to change, if it supports cooperation.
+    fn get_mut(&mut self, module: Module) -> Option<&mut Policy> {
+        self.0.get_mut(module.index()).and_then(Option::as_mut)
+    }
+
+    /// Every module that supports cooperation and its policy, in module order.
+    fn iter(&self) -> impl Iterator<Item = (Module, Policy)> + '_ {
+        self.0
+            .iter()
+            .enumerate()
+            .filter_map(|(index, policy)| Some((Module::at_index(index)?, (*policy)?)))
+    }
+}
+
+impl FromIterator<(Module, Policy)> for Policies {
+    /// Of two policies for one module, the later one stays.
+    fn from_iter<I: IntoIterator<Item = (Module, Policy)>>(policies: I) -> Self {
+        let mut slots = [None; Module::COUNT];
+        for (module, policy) in policies {
+            if let Some(slot) = slots.get_mut(module.index()) {
+                *slot = Some(policy);
+            }
+        }
+        Self(slots)
+    }
+}
+
+impl core::fmt::Debug for Policies {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_map().entries(self.iter()).finish()
+    }
+}
+
 /// The whole cooperation state: policies, live scenes and retired identifiers.
 ///
 /// Changed only by [`State::apply`]. `Clone + Eq + Hash`, with ordered containers only, so that
@@ -246,8 +298,8 @@ enum Plan<'a> {
 #[cfg_attr(feature = "serde", serde(into = "raw::State", try_from = "raw::State"))]
 pub struct State {
     limits: Limits,
-    policies: BTreeMap<Module, Policy>,
-    scenes: BTreeMap<SceneId, Scene>,
+    policies: Policies,
+    scenes: IdTable<Scene>,
     retired: BTreeMap<SceneId, Retirement>,
     /// The retired identifiers, oldest first; same set as `retired`.
     retired_order: VecDeque<SceneId>,
@@ -271,8 +323,8 @@ impl State {
         }
         Ok(Self {
             limits,
-            policies,
-            scenes: BTreeMap::new(),
+            policies: policies.into_iter().collect(),
+            scenes: IdTable::new(),
             retired: BTreeMap::new(),
             retired_order: VecDeque::new(),
         })
@@ -308,6 +360,7 @@ impl State {
 
     /// The transition function's decision: which rule the input fires, and what it will
     /// write, or the rejection. Every guard of spec §5 is here, each under its rule's tag.
+    #[inline(always)]
     fn decide<'a>(&self, input: &'a Input) -> Result<Plan<'a>, Rejection> {
         match input {
             Input::Register {
@@ -316,7 +369,7 @@ impl State {
                 decision,
                 requested,
                 geometry,
-            } => self.decide_register(*id, *module, *decision, *requested, *geometry),
+            } => self.decide_register(*id, *module, *decision, *requested, geometry),
             Input::Update {
                 id,
                 module,
@@ -324,7 +377,7 @@ impl State {
                 decision,
                 requested,
                 geometry,
-            } => self.decide_update(*id, *module, *phase, *decision, *requested, *geometry),
+            } => self.decide_update(*id, *module, *phase, *decision, *requested, geometry),
             Input::Remove { id, module } => {
                 self.owned_scene(*id, *module)?;
                 // [COOP-OWN-REMOVE.1]
@@ -341,24 +394,40 @@ impl State {
     }
 
     /// Carries out a decision. No guard here: every choice was made by `decide`.
+    #[inline(always)]
     fn commit(&mut self, plan: Plan<'_>) -> Transition {
         match plan {
-            Plan::Register { id, scene } => {
+            Plan::Register {
+                id,
+                module,
+                decision,
+                requested,
+                geometry,
+            } => {
+                let scene = Scene {
+                    module,
+                    phase: Phase::WaitingForExecution,
+                    module_decision: decision,
+                    operator_decision: OperatorDecision::Undecided,
+                    requested,
+                    age_ms: 0,
+                    geometry: *geometry,
+                };
                 self.scenes.insert(id, scene);
                 Transition::by(Rule::RegisterNew)
             }
             Plan::Update {
-                id,
+                at,
                 phase,
                 decision,
                 requested,
                 geometry,
             } => {
-                if let Some(scene) = self.scenes.get_mut(&id) {
+                if let Some(scene) = self.scenes.value_at_mut(at) {
                     scene.phase = phase;
                     scene.module_decision = decision;
                     scene.requested = requested;
-                    scene.geometry = geometry;
+                    scene.geometry = *geometry;
                     scene.age_ms = 0;
                 }
                 Transition::by(Rule::OwnerUpdate)
@@ -392,7 +461,7 @@ impl State {
             }
             Plan::Commands(commands) => {
                 for command in commands {
-                    if let Some(scene) = self.scenes.get_mut(&command.id) {
+                    if let Some(scene) = self.scenes.get_mut(command.id) {
                         scene.operator_decision = command.decision;
                     }
                 }
@@ -400,7 +469,7 @@ impl State {
             }
             Plan::Policies(settings) => {
                 for setting in settings {
-                    if let Some(policy) = self.policies.get_mut(&setting.module) {
+                    if let Some(policy) = self.policies.get_mut(setting.module) {
                         *policy = setting.policy;
                     }
                 }
@@ -413,14 +482,14 @@ impl State {
     // Scene owners
     // ---------------------------------------------------------------------------------------
 
-    fn decide_register(
+    fn decide_register<'a>(
         &self,
         id: SceneId,
         module: Module,
         decision: Decision,
         requested: bool,
-        geometry: Geometry,
-    ) -> Result<Plan<'static>, Rejection> {
+        geometry: &'a Geometry,
+    ) -> Result<Plan<'a>, Rejection> {
         // [COOP-REG-RETIRED.1]
         if let Some(retirement) = self.retired.get(&id) {
             return Err(Rejection::Revival {
@@ -428,7 +497,7 @@ impl State {
                 retirement: *retirement,
             });
         }
-        if let Some(scene) = self.scenes.get(&id) {
+        if let Some(scene) = self.scenes.get(id) {
             // [COOP-REG-LIVE.1]
             if scene.module == module {
                 return Err(Rejection::AlreadyLive { id });
@@ -441,7 +510,7 @@ impl State {
             });
         }
         // [COOP-REG-MODULE.1]
-        if !self.policies.contains_key(&module) {
+        if self.policies.get(module).is_none() {
             return Err(Rejection::UnsupportedModule { id, module });
         }
         // [COOP-REG-FULL.1]
@@ -451,28 +520,26 @@ impl State {
             });
         }
         // [COOP-REG-NEW.1]
-        let scene = Scene {
+        Ok(Plan::Register {
+            id,
             module,
-            phase: Phase::WaitingForExecution,
-            module_decision: decision,
-            operator_decision: OperatorDecision::Undecided,
+            decision,
             requested,
-            age_ms: 0,
             geometry,
-        };
-        Ok(Plan::Register { id, scene })
+        })
     }
 
-    fn decide_update(
+    #[inline(always)]
+    fn decide_update<'a>(
         &self,
         id: SceneId,
         module: Module,
         phase: Phase,
         decision: Decision,
         requested: bool,
-        geometry: Geometry,
-    ) -> Result<Plan<'static>, Rejection> {
-        let scene = self.owned_scene(id, module)?;
+        geometry: &'a Geometry,
+    ) -> Result<Plan<'a>, Rejection> {
+        let (at, scene) = self.owned_scene(id, module)?;
         // [COOP-OWN-KIND.1]
         if scene.geometry.kind() != geometry.kind() {
             return Err(Rejection::KindMismatch {
@@ -503,7 +570,7 @@ impl State {
             },
             // [COOP-OWN-UPDATE.1]
             Phase::WaitingForExecution | Phase::Running | Phase::Aborting => Plan::Update {
-                id,
+                at,
                 phase,
                 decision,
                 requested,
@@ -512,16 +579,22 @@ impl State {
         })
     }
 
-    /// The live scene `id` if `module` owns it, or the rejection every owner input shares.
-    fn owned_scene(&self, id: SceneId, module: Module) -> Result<&Scene, Rejection> {
-        match self.scenes.get(&id) {
+    /// The live scene `id` and its place in the table if `module` owns it, or the rejection
+    /// every owner input shares.
+    #[inline]
+    fn owned_scene(&self, id: SceneId, module: Module) -> Result<(usize, &Scene), Rejection> {
+        let found = self
+            .scenes
+            .position(id)
+            .and_then(|at| self.scenes.value_at(at).map(|scene| (at, scene)));
+        match found {
             // [COOP-OWN-MODULE.1]
-            Some(scene) if scene.module != module => Err(Rejection::WrongModule {
+            Some((_, scene)) if scene.module != module => Err(Rejection::WrongModule {
                 id,
                 owner: scene.module,
                 named: module,
             }),
-            Some(scene) => Ok(scene),
+            Some(found) => Ok(found),
             None => Err(match self.retired.get(&id) {
                 // [COOP-OWN-RETIRED.1]
                 Some(retirement) => Rejection::RetiredScene {
@@ -538,7 +611,7 @@ impl State {
     /// set is full.
     fn retire(&mut self, id: SceneId, reason: RetireReason) {
         // [COOP-RETIRE.1]
-        let Some(scene) = self.scenes.remove(&id) else {
+        let Some(scene) = self.scenes.remove(id) else {
             return;
         };
         while self.retired_order.len() >= self.limits.retired_capacity {
@@ -567,7 +640,7 @@ impl State {
             .scenes
             .iter()
             .filter(|(_, scene)| scene.age_ms.saturating_add(elapsed_ms) > ttl_ms)
-            .map(|(id, _)| *id)
+            .map(|(id, _)| id)
             .collect();
         // [COOP-TIME-AGE.1] when nothing expires; [COOP-TIME-EXPIRE.1] otherwise.
         Plan::Tick {
@@ -615,7 +688,7 @@ impl State {
             let failure = if commands.len() > 1 && !seen.insert(command.id) {
                 Some(CommandFailure::DuplicateId)
             } else {
-                match (self.scenes.get(&command.id), self.retired.get(&command.id)) {
+                match (self.scenes.get(command.id), self.retired.get(&command.id)) {
                     (Some(scene), _) if !scene.is_cancellable() => {
                         Some(CommandFailure::NotCancellable(scene.phase))
                     }
@@ -645,7 +718,7 @@ impl State {
                 });
             }
             // [COOP-POL-UNKNOWN.1]
-            if !self.policies.contains_key(&setting.module) {
+            if self.policies.get(setting.module).is_none() {
                 return Err(Rejection::UnknownPolicyModule {
                     index,
                     module: setting.module,
@@ -679,12 +752,22 @@ impl State {
     /// The live scene with this identifier.
     #[must_use]
     pub fn scene(&self, id: SceneId) -> Option<&Scene> {
-        self.scenes.get(&id)
+        self.scenes.get(id)
     }
 
     /// Every live scene, in identifier order.
     pub fn scenes(&self) -> impl Iterator<Item = (SceneId, &Scene)> + '_ {
-        self.scenes.iter().map(|(id, scene)| (*id, scene))
+        self.scenes.iter()
+    }
+
+    /// Every live scene, in no particular order: for outputs sorted afterwards.
+    pub(crate) fn scenes_in_any_order(&self) -> impl Iterator<Item = (SceneId, &Scene)> + '_ {
+        self.scenes.iter_unordered()
+    }
+
+    /// The live scene at `position` of [`scenes_in_any_order`](Self::scenes_in_any_order).
+    pub(crate) fn scene_at(&self, position: usize) -> Option<(SceneId, &Scene)> {
+        self.scenes.entry_at(position)
     }
 
     /// How many scenes are live.
@@ -722,10 +805,10 @@ impl State {
     /// for symmetry reduction.
     #[must_use]
     pub fn relabel(&self, rename: impl Fn(SceneId) -> SceneId) -> Option<Self> {
-        let scenes: BTreeMap<SceneId, Scene> = self
+        let scenes: IdTable<Scene> = self
             .scenes
             .iter()
-            .map(|(id, scene)| (rename(*id), scene.clone()))
+            .map(|(id, scene)| (rename(id), scene.clone()))
             .collect();
         let retired: BTreeMap<SceneId, Retirement> = self
             .retired
@@ -743,45 +826,44 @@ impl State {
             && renamed.retired.len() == self.retired.len()
             && renamed
                 .scenes
-                .keys()
-                .all(|id| !renamed.retired.contains_key(id));
+                .iter()
+                .all(|(id, _)| !renamed.retired.contains_key(&id));
         distinct.then_some(renamed)
     }
 
     /// A module's current policy, if it supports cooperation.
     #[must_use]
     pub fn policy(&self, module: Module) -> Option<Policy> {
-        self.policies.get(&module).copied()
+        self.policies.get(module)
     }
 
     /// Every module's current policy, in module order: the AD API `get_policies` answer
     /// (`[COOP-POL-GET.1]`).
     pub fn policies(&self) -> impl Iterator<Item = PolicySetting> + '_ {
-        self.policies.iter().map(|(module, policy)| PolicySetting {
-            module: *module,
-            policy: *policy,
-        })
+        self.policies
+            .iter()
+            .map(|(module, policy)| PolicySetting { module, policy })
     }
 
     /// The merged decision the planner drives a live scene with (`[COOP-MERGE.1]`).
     #[must_use]
     pub fn merged_decision(&self, id: SceneId) -> Option<Decision> {
-        let scene = self.scenes.get(&id)?;
-        let policy = self.policies.get(&scene.module)?;
-        Some(scene.merged_decision(*policy))
+        let scene = self.scenes.get(id)?;
+        let policy = self.policies.get(scene.module)?;
+        Some(scene.merged_decision(policy))
     }
 
     /// Whether the operator activated what the module would not (`[COOP-FORCE-ACTIVATED.1]`).
     #[must_use]
     pub fn force_activated(&self, id: SceneId) -> Option<bool> {
-        self.scenes.get(&id).map(Scene::is_force_activated)
+        self.scenes.get(id).map(Scene::is_force_activated)
     }
 
     /// Whether the operator deactivated a running scene the module would go on with
     /// (`[COOP-FORCE-DEACTIVATED.1]`).
     #[must_use]
     pub fn force_deactivated(&self, id: SceneId) -> Option<bool> {
-        self.scenes.get(&id).map(Scene::is_force_deactivated)
+        self.scenes.get(id).map(Scene::is_force_deactivated)
     }
 
     // ---------------------------------------------------------------------------------------
@@ -816,8 +898,12 @@ impl State {
     pub fn check_invariants(&self) -> Result<(), Violation> {
         let fail = |invariant, id| Err(Violation { invariant, id });
         // [COOP-INV-DISJOINT.1]
-        if let Some(id) = self.scenes.keys().find(|id| self.retired.contains_key(id)) {
-            return fail(Invariant::Disjoint, Some(*id));
+        if let Some((id, _)) = self
+            .scenes
+            .iter()
+            .find(|(id, _)| self.retired.contains_key(id))
+        {
+            return fail(Invariant::Disjoint, Some(id));
         }
         // [COOP-INV-RETIRED-ORDER.1]
         if !self.retired_order_is_exact() {
@@ -831,18 +917,18 @@ impl State {
         if self.scenes.len() > self.limits.max_scenes {
             return fail(Invariant::LiveBound, None);
         }
-        for (id, scene) in &self.scenes {
+        for (id, scene) in self.scenes.iter() {
             // [COOP-INV-LIVE-PHASE.1]
             if scene.phase.is_terminal() {
-                return fail(Invariant::LivePhase, Some(*id));
+                return fail(Invariant::LivePhase, Some(id));
             }
             // [COOP-INV-AGE.1]
             if scene.age_ms > self.limits.ttl_ms {
-                return fail(Invariant::Age, Some(*id));
+                return fail(Invariant::Age, Some(id));
             }
             // [COOP-INV-MODULE.1]
-            if !self.policies.contains_key(&scene.module) {
-                return fail(Invariant::Module, Some(*id));
+            if self.policies.get(scene.module).is_none() {
+                return fail(Invariant::Module, Some(id));
             }
         }
         Ok(())
@@ -867,7 +953,7 @@ mod raw {
         fn from(state: super::State) -> Self {
             Self {
                 limits: state.limits,
-                policies: state.policies.into_iter().collect(),
+                policies: state.policies.iter().collect(),
                 scenes: state.scenes.into_iter().collect(),
                 retired: state.retired.into_iter().collect(),
                 retired_order: state.retired_order.into_iter().collect(),

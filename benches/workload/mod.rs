@@ -13,9 +13,9 @@
 use std::collections::VecDeque;
 
 use cooperation::{
-    merge, Behavior, Command, CooperationStatus, Decision, Direction, FactorKind, Geometry, Input,
-    Limits, Module, OperatorDecision, Phase, Policy, PolicySetting, SceneId, Sequence, State,
-    SteeringFactor, VelocityFactor,
+    merge, Behavior, Command, CooperationStatus, Decision, Direction, FactorKind, FactorLists,
+    Geometry, Input, Limits, Module, OperatorDecision, Phase, Policy, PolicySetting, SceneId,
+    Sequence, State, SteeringFactor, VelocityFactor,
 };
 
 /// The modules the scenes are spread over, round robin: steering and velocity scenes, optional
@@ -197,10 +197,8 @@ impl Owner {
 pub struct Outputs {
     /// Every live scene's status.
     pub statuses: Vec<CooperationStatus>,
-    /// The velocity factors, nearest first.
-    pub velocity: Vec<VelocityFactor>,
-    /// The steering factors, nearest first.
-    pub steering: Vec<SteeringFactor>,
+    /// The velocity factors and the steering factors, each nearest first.
+    pub factors: FactorLists,
 }
 
 /// What one planning cycle saw; the benchmarks keep it from being optimised away and the
@@ -301,8 +299,7 @@ impl Registry for State {
 
     fn outputs(&self, out: &mut Outputs) {
         self.statuses_into(&mut out.statuses);
-        self.velocity_factors_into(&mut out.velocity);
-        self.steering_factors_into(&mut out.steering);
+        self.factors_into(&mut out.factors);
     }
 
     fn set_commands(&mut self, commands: Vec<Command>) -> bool {
@@ -461,8 +458,8 @@ impl Registry for LinearRegistry {
 
     fn outputs(&self, out: &mut Outputs) {
         out.statuses.clear();
-        out.velocity.clear();
-        out.steering.clear();
+        out.factors.velocity.clear();
+        out.factors.steering.clear();
         self.push_outputs(out);
         sort_factors(out);
     }
@@ -535,7 +532,7 @@ impl LinearRegistry {
                     pose,
                     distance,
                     status,
-                } => out.velocity.push(VelocityFactor {
+                } => out.factors.velocity.push(VelocityFactor {
                     pose,
                     distance,
                     status,
@@ -548,7 +545,7 @@ impl LinearRegistry {
                     distances,
                     direction,
                     status,
-                } => out.steering.push(SteeringFactor {
+                } => out.factors.steering.push(SteeringFactor {
                     poses,
                     distances,
                     direction,
@@ -565,15 +562,15 @@ impl LinearRegistry {
 /// Sorts the factor lists nearest first: the same ordering, by the same sort, as the library,
 /// so that only the registry differs.
 fn sort_factors(out: &mut Outputs) {
-    out.velocity.sort_unstable_by(|a, b| {
+    out.factors.velocity.sort_unstable_by(|a, b| {
         a.distance
             .total_cmp(&b.distance)
-            .then(a.cooperation.id.cmp(&b.cooperation.id))
+            .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
     });
-    out.steering.sort_unstable_by(|a, b| {
+    out.factors.steering.sort_unstable_by(|a, b| {
         a.distances[0]
             .total_cmp(&b.distances[0])
-            .then(a.cooperation.id.cmp(&b.cooperation.id))
+            .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
     });
 }
 
@@ -652,8 +649,8 @@ impl Registry for PerModuleRegistry {
 
     fn outputs(&self, out: &mut Outputs) {
         out.statuses.clear();
-        out.velocity.clear();
-        out.steering.clear();
+        out.factors.velocity.clear();
+        out.factors.steering.clear();
         for (_, part) in &self.modules {
             part.push_outputs(out);
         }
@@ -793,7 +790,7 @@ impl<R: Registry> Planner<R> {
             accepted,
             activated,
             statuses: out.statuses.len(),
-            factors: out.velocity.len() + out.steering.len(),
+            factors: out.factors.velocity.len() + out.factors.steering.len(),
         }
     }
 
