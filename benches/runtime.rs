@@ -5,6 +5,8 @@
 //!
 //! - `cycle/N`: one planning cycle with N live scenes over 8 modules; here also
 //!   `baseline-per-module` ([`workload::PerModuleRegistry`]);
+//! - `phase/{update,query,outputs}/N`: the three parts of that cycle timed one by one, at
+//!   N = 1 000 and 10 000;
 //! - `commands/K`: one `set_commands` batch of K commands, 10 000 live scenes;
 //! - `policy/N`: one policy change of a module with N live scenes;
 //! - `churn/N`: one registration plus one removal, N live scenes.
@@ -128,6 +130,41 @@ fn cycle(c: &mut Criterion) {
     group.finish();
 }
 
+/// The numbers of live scenes the cycle is timed part by part at.
+const PHASE_SCENES: [usize; 2] = [1_000, 10_000];
+
+/// Times each part of a planning cycle on its own, on a planner with `scenes` scenes: the
+/// owners' updates, the merged-decision queries, and the status and factor lists.
+fn phases<R: Registry>(group: &mut Group<'_>, name: &str, scenes: usize) {
+    let mut planner = Planner::<R>::new(scenes);
+    let mut out = Outputs::default();
+    planner.cycle(&mut out);
+    group.bench_function(BenchmarkId::new(format!("update/{name}"), scenes), |b| {
+        b.iter(|| black_box(planner.update_all()));
+    });
+    group.bench_function(BenchmarkId::new(format!("query/{name}"), scenes), |b| {
+        b.iter(|| black_box(planner.decide_all()));
+    });
+    group.bench_function(BenchmarkId::new(format!("outputs/{name}"), scenes), |b| {
+        b.iter(|| planner.registry.outputs(black_box(&mut out)));
+    });
+}
+
+fn phase(c: &mut Criterion) {
+    let mut group = c.benchmark_group("phase");
+    group
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    for scenes in PHASE_SCENES {
+        group.throughput(Throughput::Elements(scenes as u64));
+        sampling(&mut group, false);
+        phases::<State>(&mut group, "library", scenes);
+        sampling(&mut group, scenes >= 10_000);
+        phases::<LinearRegistry>(&mut group, "baseline", scenes);
+    }
+    group.finish();
+}
+
 /// Times `k`-command batches on a planner, alternating the decision so every batch changes
 /// something.
 fn command_batches<R: Registry>(group: &mut Group<'_>, name: &str, k: usize) {
@@ -242,6 +279,7 @@ fn main() {
     }
     let mut criterion = Criterion::default().configure_from_args();
     cycle(&mut criterion);
+    phase(&mut criterion);
     commands(&mut criterion);
     policy(&mut criterion);
     churn(&mut criterion);

@@ -164,6 +164,12 @@ impl State {
             steering,
             keys,
         } = lists;
+        if u32::try_from(self.scene_count()).is_err() {
+            // Positions do not fit in a key: sort the factors themselves.
+            self.velocity_factors_into(velocity);
+            self.steering_factors_into(steering);
+            return;
+        }
         velocity.clear();
         steering.clear();
         // [COOP-OUT-ORDER.1] Velocity scenes, nearest first; ties by identifier.
@@ -218,28 +224,40 @@ impl State {
     }
 
     /// Fills `keys` with one key for each live scene `distance` gives a distance for, sorted
-    /// as `[COOP-OUT-ORDER.1]` orders the scenes: the distance's place in IEEE 754 total order
-    /// in the high half, the scene's position in the table in the low half, and runs of equal
-    /// distances re-sorted by identifier.
-    fn sort_keys(&self, keys: &mut Vec<u64>, distance: impl Fn(&Scene) -> Option<Distance>) {
+    /// as `[COOP-OUT-ORDER.1]` orders the scenes. A key holds, from the most significant bits
+    /// down: the distance's place in IEEE 754 total order, the identifier's high 64 bits, the
+    /// scene's position in the table. Sorting the keys therefore sorts by distance and then by
+    /// identifier, except where two identifiers share their high half (almost never for
+    /// random UUIDs): such runs are re-sorted by the whole identifier.
+    ///
+    /// Positions must fit in 32 bits; [`factors_into`](Self::factors_into) checks that first.
+    fn sort_keys(&self, keys: &mut Vec<u128>, distance: impl Fn(&Scene) -> Option<Distance>) {
         keys.clear();
-        for (position, (_, scene)) in self.scenes_in_any_order().enumerate() {
+        for (position, (id, scene)) in self.scenes_in_any_order().enumerate() {
             let (Some(Distance(metres)), Ok(position)) = (distance(scene), u32::try_from(position))
             else {
                 continue;
             };
-            keys.push((u64::from(total_order_key(metres)) << 32) | u64::from(position));
+            let high = id.to_u128() >> 64;
+            keys.push(
+                (u128::from(total_order_key(metres)) << 96) | (high << 32) | u128::from(position),
+            );
         }
         keys.sort_unstable();
-        // Equal distances: by identifier, not by position. Rare, so found by a scan.
+        let tie = |key: u128| key >> 32;
+        if keys.windows(2).all(|pair| match pair {
+            [a, b] => tie(*a) != tie(*b),
+            _ => true,
+        }) {
+            return;
+        }
         let mut start = 0;
         while start < keys.len() {
-            let distance_of = |key: u64| key >> 32;
-            let run_key = keys.get(start).copied().map(distance_of);
+            let run_key = keys.get(start).copied().map(tie);
             let len = keys
                 .iter()
                 .skip(start)
-                .take_while(|&&key| Some(distance_of(key)) == run_key)
+                .take_while(|&&key| Some(tie(key)) == run_key)
                 .count();
             if len > 1 {
                 if let Some(run) = keys.get_mut(start..start + len) {
@@ -251,8 +269,8 @@ impl State {
     }
 
     /// The scene a key of [`sort_keys`](Self::sort_keys) names.
-    fn keyed_scene(&self, key: u64) -> Option<(SceneId, &Scene)> {
-        self.scene_at((key & u64::from(u32::MAX)) as usize)
+    fn keyed_scene(&self, key: u128) -> Option<(SceneId, &Scene)> {
+        self.scene_at((key & u128::from(u32::MAX)) as usize)
     }
 
     /// The AD API `set_commands` call (`[COOP-API-SET-COMMANDS.1]`): applies the batch, all or
@@ -295,7 +313,7 @@ pub struct FactorLists {
     /// The steering factors, nearest start first (`[COOP-OUT-ORDER.1]`).
     pub steering: Vec<SteeringFactor>,
     /// Sort keys, kept only so that their memory is reused.
-    keys: Vec<u64>,
+    keys: Vec<u128>,
 }
 
 /// A distance's place in IEEE 754 total order, as an unsigned number: the order `f32::total_cmp`

@@ -68,8 +68,14 @@ fn any_crowd_distance() -> impl Strategy<Value = f32> {
 /// Owner inputs and ticks over 40 identifiers, so that tables grow past their small form and
 /// shrink back.
 fn any_crowd_input() -> impl Strategy<Value = Input> {
+    // Half the identifiers spread over all bits; the other half share their high 64 bits in
+    // threes, which the factor lists' sort keys cannot tell apart.
     let id = (1..=40u128).prop_map(|n| {
-        SceneId::from_u128(n.wrapping_mul(0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835))
+        SceneId::from_u128(if n % 2 == 0 {
+            n.wrapping_mul(0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835)
+        } else {
+            ((n % 3) << 64) | (n * 0x9e37_79b9)
+        })
     });
     let geometry = prop_oneof![
         any_crowd_distance().prop_map(Geometry::velocity),

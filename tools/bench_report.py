@@ -24,6 +24,12 @@ END = "<!-- END GENERATED: runtime tables -->"
 
 SCENES = [1, 10, 100, 1_000, 10_000]
 BATCHES = [1, 100, 10_000]
+PHASE_SCENES = [1_000, 10_000]
+PHASES = [
+    ("update", "owners' updates"),
+    ("query", "merged-decision queries"),
+    ("outputs", "status and factor lists"),
+]
 LIBRARY, BASELINE, PER_MODULE = "library", "baseline", "baseline-per-module"
 
 
@@ -120,6 +126,21 @@ def pair_section(criterion, group, parameters, name, unit_name):
     return table(header, rows)
 
 
+def phase_section(criterion):
+    """The cycle's three parts timed one by one: per scene, library against baseline."""
+    rows = []
+    for n in PHASE_SCENES:
+        for part, what in PHASES:
+            # Criterion writes a benchmark named `part/side` to the directory `part_side`.
+            lib = estimate(criterion, "phase", f"{part}_{LIBRARY}", n)
+            base = estimate(criterion, "phase", f"{part}_{BASELINE}", n)
+            per_scene = lambda v: "—" if v is None else duration(v[0] / n)
+            rows.append([count(n), what, per_scene(lib), per_scene(base), ratio(base, lib)])
+    header = ["N scenes", "part of the cycle", "library, per scene", "baseline, per scene",
+              "baseline ÷ library"]
+    return table(header, rows)
+
+
 def allocation_section(criterion):
     path = Path(criterion, "allocations.json")
     if not path.is_file():
@@ -196,6 +217,10 @@ def generated(criterion):
         cycle_table,
         "",
         "![Cycle cost against N, log-log](performance-cycle.svg)",
+        "",
+        "### The cycle part by part (`phase/PART/N`)",
+        "",
+        phase_section(criterion),
         "",
         "### Allocations per steady-state cycle",
         "",

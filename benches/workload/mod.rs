@@ -766,8 +766,22 @@ impl<R: Registry> Planner<R> {
     /// merged decision, and the statuses and factor lists are produced into `out`.
     pub fn cycle(&mut self, out: &mut Outputs) -> Summary {
         self.cycle += 1;
-        let cycle = self.cycle;
         self.registry.tick(CYCLE_MS);
+        let accepted = self.update_all();
+        let activated = self.decide_all();
+        self.registry.outputs(out);
+        Summary {
+            accepted,
+            activated,
+            statuses: out.statuses.len(),
+            factors: out.factors.velocity.len() + out.factors.steering.len(),
+        }
+    }
+
+    /// The first part of a cycle: every owner updates its scene with what it reports in the
+    /// current cycle. How many updates were accepted.
+    pub fn update_all(&mut self) -> usize {
+        let cycle = self.cycle;
         let mut accepted = 0;
         for owner in &self.owners {
             let ok = self.registry.update(
@@ -779,19 +793,18 @@ impl<R: Registry> Planner<R> {
             );
             accepted += usize::from(ok);
         }
+        accepted
+    }
+
+    /// The second part of a cycle: the planner reads every scene's merged decision. How many
+    /// were `Activate`.
+    pub fn decide_all(&self) -> usize {
         let mut activated = 0;
         for owner in &self.owners {
             let merged = self.registry.merged_decision(owner.id, owner.module);
-            let activate = merged == Some(Decision::Activate);
-            activated += usize::from(activate);
+            activated += usize::from(merged == Some(Decision::Activate));
         }
-        self.registry.outputs(out);
-        Summary {
-            accepted,
-            activated,
-            statuses: out.statuses.len(),
-            factors: out.factors.velocity.len() + out.factors.steering.len(),
-        }
+        activated
     }
 
     /// Registration and retirement churn: the oldest scene's owner removes it and a new owner
