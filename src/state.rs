@@ -288,8 +288,10 @@ impl core::fmt::Debug for Policies {
 
 /// The whole cooperation state: policies, live scenes and retired identifiers.
 ///
-/// Changed only by [`State::apply`]. `Clone + Eq + Hash`, with ordered containers only, so that
-/// a model checker can hold it and every iteration order is deterministic.
+/// Changed only by [`State::apply`]. `Clone + Eq + Hash`, and every container in it compares,
+/// hashes and iterates by its contents alone (the live scenes in identifier order, whatever
+/// their layout), so that a model checker can hold it and every iteration order is
+/// deterministic.
 ///
 /// With the `serde` feature a state serializes with its maps as lists, and deserializes only if
 /// it passes [`State::check_invariants`].
