@@ -22,6 +22,7 @@
 
 use core::fmt;
 use core::hash::{Hash, Hasher};
+use core::marker::PhantomData;
 
 use crate::SceneId;
 
@@ -33,7 +34,7 @@ const EMPTY: usize = usize::MAX;
 
 /// A map from scene identifiers to values, ordered by identifier.
 #[derive(Clone)]
-pub(crate) struct IdTable<V> {
+pub(crate) struct IdTable<V, H = Spread> {
     /// The entries: sorted by identifier while the table is small, in no particular order once
     /// it is large.
     entries: Vec<(SceneId, V)>,
@@ -43,6 +44,8 @@ pub(crate) struct IdTable<V> {
     /// a power-of-two length, at most half full, so a probe always ends at an empty bucket.
     /// Empty while small; once built it stays, whatever the table shrinks to.
     index: Vec<usize>,
+    /// The hash, a type only.
+    hash: PhantomData<H>,
 }
 
 /// Where a probe of the index ended.
@@ -56,24 +59,37 @@ enum Probe {
     Full,
 }
 
-/// The 64-bit hash of an identifier: its halves folded together and spread by a
+/// How an [`IdTable`] hashes identifiers into its index: [`Spread`] unless a test needs
+/// identifiers that collide.
+pub(crate) trait IdHash {
+    /// The 64-bit hash of `id`; its low bits pick the bucket.
+    fn hash(id: SceneId) -> u64;
+}
+
+/// The table's hash of an identifier: its halves folded together and spread by a
 /// multiplication (Fibonacci hashing), its high bits folded into the low ones that pick the
 /// bucket. Cheap, since owners draw identifiers at random; fixed, so that the table behaves the
 /// same in every run.
-const fn hash(id: SceneId) -> u64 {
-    let value = id.to_u128();
-    let folded = (value as u64) ^ ((value >> 64) as u64).rotate_left(29);
-    let h = folded.wrapping_mul(0x9e37_79b9_7f4a_7c15);
-    h ^ (h >> 32)
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Spread;
+
+impl IdHash for Spread {
+    fn hash(id: SceneId) -> u64 {
+        let value = id.to_u128();
+        let folded = (value as u64) ^ ((value >> 64) as u64).rotate_left(29);
+        let h = folded.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        h ^ (h >> 32)
+    }
 }
 
-impl<V> IdTable<V> {
+impl<V, H: IdHash> IdTable<V, H> {
     /// An empty table.
     pub(crate) const fn new() -> Self {
         Self {
             entries: Vec::new(),
             order: Vec::new(),
             index: Vec::new(),
+            hash: PhantomData,
         }
     }
 
@@ -122,7 +138,7 @@ impl<V> IdTable<V> {
         if !self.is_large() {
             return self.entries.iter().position(|(key, _)| *key == id);
         }
-        match self.probe(hash(id), |position| self.id_at(position) == Some(id)) {
+        match self.probe(H::hash(id), |position| self.id_at(position) == Some(id)) {
             Probe::Found(bucket) => self.index.get(bucket).copied(),
             Probe::Vacant(_) | Probe::Full => None,
         }
@@ -183,7 +199,7 @@ impl<V> IdTable<V> {
         self.entries.push((id, value));
         let rank = self.rank(id).unwrap_or_else(|rank| rank);
         self.order.insert(rank, position);
-        match self.probe(hash(id), |_| false) {
+        match self.probe(H::hash(id), |_| false) {
             Probe::Vacant(bucket) if self.entries.len() * 2 <= self.index.len() => {
                 if let Some(slot) = self.index.get_mut(bucket) {
                     *slot = position;
@@ -202,7 +218,7 @@ impl<V> IdTable<V> {
             let Some(id) = self.id_at(position) else {
                 continue;
             };
-            if let Probe::Vacant(bucket) = self.probe(hash(id), |_| false) {
+            if let Probe::Vacant(bucket) = self.probe(H::hash(id), |_| false) {
                 if let Some(slot) = self.index.get_mut(bucket) {
                     *slot = position;
                 }
@@ -219,7 +235,7 @@ impl<V> IdTable<V> {
         if let Ok(rank) = self.rank(id) {
             self.order.remove(rank);
         }
-        if let Probe::Found(bucket) = self.probe(hash(id), |at| at == position) {
+        if let Probe::Found(bucket) = self.probe(H::hash(id), |at| at == position) {
             self.vacate(bucket);
         }
         let last = self.entries.len() - 1;
@@ -232,7 +248,7 @@ impl<V> IdTable<V> {
                         *slot = position;
                     }
                 }
-                if let Probe::Found(bucket) = self.probe(hash(moved), |at| at == last) {
+                if let Probe::Found(bucket) = self.probe(H::hash(moved), |at| at == last) {
                     if let Some(slot) = self.index.get_mut(bucket) {
                         *slot = position;
                     }
@@ -256,7 +272,7 @@ impl<V> IdTable<V> {
             let Some(id) = self.id_at(position) else {
                 break; // `EMPTY`: the run of full buckets ends here.
             };
-            let home = self.home(hash(id));
+            let home = self.home(H::hash(id));
             // The entry may fill the hole if the hole lies between its home and where it is.
             if next.wrapping_sub(home) & mask >= next.wrapping_sub(hole) & mask {
                 if let Some(slot) = self.index.get_mut(hole) {
@@ -272,7 +288,7 @@ impl<V> IdTable<V> {
     }
 
     /// Every entry, in identifier order.
-    pub(crate) fn iter(&self) -> Iter<'_, V> {
+    pub(crate) fn iter(&self) -> Iter<'_, V, H> {
         Iter {
             table: self,
             rank: 0,
@@ -317,13 +333,13 @@ impl<V> IdTable<V> {
     }
 }
 
-impl<V> Default for IdTable<V> {
+impl<V, H: IdHash> Default for IdTable<V, H> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<V> FromIterator<(SceneId, V)> for IdTable<V> {
+impl<V, H: IdHash> FromIterator<(SceneId, V)> for IdTable<V, H> {
     /// A table of these entries; of two with one identifier, the later one stays.
     fn from_iter<I: IntoIterator<Item = (SceneId, V)>>(entries: I) -> Self {
         let mut table = Self::new();
@@ -334,7 +350,7 @@ impl<V> FromIterator<(SceneId, V)> for IdTable<V> {
     }
 }
 
-impl<V> IntoIterator for IdTable<V> {
+impl<V, H> IntoIterator for IdTable<V, H> {
     type Item = (SceneId, V);
     type IntoIter = std::vec::IntoIter<(SceneId, V)>;
 
@@ -354,12 +370,12 @@ impl<V> IntoIterator for IdTable<V> {
 }
 
 /// The entries of an [`IdTable`], in identifier order.
-pub(crate) struct Iter<'a, V> {
-    table: &'a IdTable<V>,
+pub(crate) struct Iter<'a, V, H> {
+    table: &'a IdTable<V, H>,
     rank: usize,
 }
 
-impl<'a, V> Iterator for Iter<'a, V> {
+impl<'a, V, H: IdHash> Iterator for Iter<'a, V, H> {
     type Item = (SceneId, &'a V);
 
     fn next(&mut self) -> Option<Self::Item> {
@@ -379,18 +395,18 @@ impl<'a, V> Iterator for Iter<'a, V> {
     }
 }
 
-impl<V> ExactSizeIterator for Iter<'_, V> {}
+impl<V, H: IdHash> ExactSizeIterator for Iter<'_, V, H> {}
 
-impl<V: PartialEq> PartialEq for IdTable<V> {
+impl<V: PartialEq, H: IdHash> PartialEq for IdTable<V, H> {
     fn eq(&self, other: &Self) -> bool {
         self.len() == other.len() && self.iter().eq(other.iter())
     }
 }
 
-impl<V: Eq> Eq for IdTable<V> {}
+impl<V: Eq, H: IdHash> Eq for IdTable<V, H> {}
 
-impl<V: Hash> Hash for IdTable<V> {
-    fn hash<H: Hasher>(&self, state: &mut H) {
+impl<V: Hash, H: IdHash> Hash for IdTable<V, H> {
+    fn hash<S: Hasher>(&self, state: &mut S) {
         state.write_usize(self.len());
         for entry in self.iter() {
             entry.hash(state);
@@ -398,7 +414,7 @@ impl<V: Hash> Hash for IdTable<V> {
     }
 }
 
-impl<V: fmt::Debug> fmt::Debug for IdTable<V> {
+impl<V: fmt::Debug, H: IdHash> fmt::Debug for IdTable<V, H> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_map().entries(self.iter()).finish()
     }
@@ -410,7 +426,7 @@ mod tests {
 
     use proptest::prelude::*;
 
-    use super::{IdTable, SMALL};
+    use super::{IdHash, IdTable, Spread, SMALL};
     use crate::SceneId;
 
     /// One operation on a table.
@@ -435,40 +451,69 @@ mod tests {
         ]
     }
 
-    proptest! {
-        /// The table answers as an ordered map does after any sequence of insertions and
-        /// removals, stays consistent, and equals (and hashes as) a table built afresh from
-        /// its entries.
-        #[test]
-        fn behaves_as_an_ordered_map(ops in proptest::collection::vec(op(), 0..400)) {
-            let mut table = IdTable::new();
-            let mut model = BTreeMap::new();
-            for op in ops {
-                match op {
-                    Op::Insert(k, v) => {
-                        prop_assert_eq!(table.insert(id(k), v), model.insert(id(k), v));
-                    }
-                    Op::Remove(k) => {
-                        prop_assert_eq!(table.remove(id(k)), model.remove(&id(k)));
-                    }
-                }
-                prop_assert!(table.is_consistent());
-                prop_assert_eq!(table.len(), model.len());
-            }
-            for k in 0..60 {
-                prop_assert_eq!(table.get(id(k)), model.get(&id(k)));
-            }
-            let walked: Vec<_> = table.iter().map(|(k, v)| (k, *v)).collect();
-            let expected: Vec<_> = model.iter().map(|(k, v)| (*k, *v)).collect();
-            prop_assert_eq!(&walked, &expected);
-            let afresh: IdTable<u32> = expected.iter().copied().collect();
-            prop_assert_eq!(&afresh, &table);
-            prop_assert_eq!(fingerprint(&afresh), fingerprint(&table));
-            prop_assert_eq!(table.clone().into_iter().collect::<Vec<_>>(), expected);
+    /// Hashes that send every identifier to one of eight buckets next to the end of the
+    /// index, so that clusters are long and wrap round to its start: the paths of probing and
+    /// of deletion that random identifiers seldom take.
+    struct Wrapping;
+
+    impl IdHash for Wrapping {
+        fn hash(id: SceneId) -> u64 {
+            u64::MAX - (Spread::hash(id) & 7)
         }
     }
 
-    fn fingerprint(table: &IdTable<u32>) -> u64 {
+    /// A hash under which every identifier collides.
+    struct Constant;
+
+    impl IdHash for Constant {
+        fn hash(_: SceneId) -> u64 {
+            0
+        }
+    }
+
+    /// Applies `ops` to a table hashing with `H` and to a `BTreeMap`, and checks that they
+    /// answer alike, that the table stays consistent, and that it equals (and hashes as) a
+    /// table built afresh from its entries.
+    fn behaves_as_an_ordered_map_with<H: IdHash>(ops: &[Op]) -> Result<(), TestCaseError> {
+        let mut table = IdTable::<u32, H>::new();
+        let mut model = BTreeMap::new();
+        for op in ops {
+            match *op {
+                Op::Insert(k, v) => {
+                    prop_assert_eq!(table.insert(id(k), v), model.insert(id(k), v));
+                }
+                Op::Remove(k) => {
+                    prop_assert_eq!(table.remove(id(k)), model.remove(&id(k)));
+                }
+            }
+            prop_assert!(table.is_consistent());
+            prop_assert_eq!(table.len(), model.len());
+        }
+        for k in 0..60 {
+            prop_assert_eq!(table.get(id(k)), model.get(&id(k)));
+        }
+        let walked: Vec<_> = table.iter().map(|(k, v)| (k, *v)).collect();
+        let expected: Vec<_> = model.iter().map(|(k, v)| (*k, *v)).collect();
+        prop_assert_eq!(&walked, &expected);
+        let afresh: IdTable<u32, H> = expected.iter().copied().collect();
+        prop_assert_eq!(&afresh, &table);
+        prop_assert_eq!(fingerprint(&afresh), fingerprint(&table));
+        prop_assert_eq!(table.into_iter().collect::<Vec<_>>(), expected);
+        Ok(())
+    }
+
+    proptest! {
+        /// The table behaves as an ordered map after any sequence of insertions and removals,
+        /// with its own hash and with hashes that make every cluster long or wrap round.
+        #[test]
+        fn behaves_as_an_ordered_map(ops in proptest::collection::vec(op(), 0..400)) {
+            behaves_as_an_ordered_map_with::<Spread>(&ops)?;
+            behaves_as_an_ordered_map_with::<Wrapping>(&ops)?;
+            behaves_as_an_ordered_map_with::<Constant>(&ops)?;
+        }
+    }
+
+    fn fingerprint<H: IdHash>(table: &IdTable<u32, H>) -> u64 {
         use core::hash::{Hash, Hasher};
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         table.hash(&mut hasher);
@@ -477,7 +522,7 @@ mod tests {
 
     #[test]
     fn grows_an_index_past_small_and_keeps_it() {
-        let mut table = IdTable::new();
+        let mut table = IdTable::<usize>::new();
         for n in 0..=SMALL {
             assert_eq!(table.insert(SceneId::from_u128(n as u128), n), None);
         }
