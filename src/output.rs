@@ -149,7 +149,7 @@ impl State {
     }
 
     /// Fills `lists` with both factor lists, ordered as [`velocity_factors_into`] and
-    /// [`steering_factors_into`] order them (`[COOP-OUT-ORDER.1]`), and returns nothing else.
+    /// [`steering_factors_into`] order them (`[COOP-OUT-ORDER.1]`).
     ///
     /// The form for a planning cycle: it sorts small keys kept in `lists` and then writes each
     /// factor once in its place, where the two functions above sort the factors themselves.
