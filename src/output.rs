@@ -71,6 +71,52 @@ pub struct SteeringFactor {
     pub cooperation: CooperationStatus,
 }
 
+impl VelocityFactor {
+    /// The factor of the live scene `scene`, whose identifier is `id`, if it is a velocity
+    /// scene.
+    fn of(id: SceneId, scene: &Scene) -> Option<Self> {
+        match *scene.geometry() {
+            Geometry::Velocity {
+                pose,
+                distance,
+                status,
+            } => Some(Self {
+                pose,
+                distance,
+                status,
+                behavior: scene.module().behavior,
+                sequence: scene.module().sequence,
+                cooperation: CooperationStatus::of(id, scene),
+            }),
+            Geometry::Steering { .. } => None,
+        }
+    }
+}
+
+impl SteeringFactor {
+    /// The factor of the live scene `scene`, whose identifier is `id`, if it is a steering
+    /// scene.
+    fn of(id: SceneId, scene: &Scene) -> Option<Self> {
+        match *scene.geometry() {
+            Geometry::Steering {
+                poses,
+                distances,
+                direction,
+                status,
+            } => Some(Self {
+                poses,
+                distances,
+                direction,
+                status,
+                behavior: scene.module().behavior,
+                sequence: scene.module().sequence,
+                cooperation: CooperationStatus::of(id, scene),
+            }),
+            Geometry::Velocity { .. } => None,
+        }
+    }
+}
+
 impl State {
     /// The cooperation status of a live scene (`[COOP-OUT-STATUS.1]`).
     #[must_use]
@@ -92,23 +138,10 @@ impl State {
     /// first (`[COOP-OUT-ORDER.1]`). Allocates only if `out` has too little capacity.
     pub fn velocity_factors_into(&self, out: &mut Vec<VelocityFactor>) {
         out.clear();
-        for (id, scene) in self.scenes_in_any_order() {
-            if let Geometry::Velocity {
-                pose,
-                distance,
-                status,
-            } = scene.geometry()
-            {
-                out.push(VelocityFactor {
-                    pose: *pose,
-                    distance: *distance,
-                    status: *status,
-                    behavior: scene.module().behavior,
-                    sequence: scene.module().sequence,
-                    cooperation: CooperationStatus::of(id, scene),
-                });
-            }
-        }
+        out.extend(
+            self.scenes_in_any_order()
+                .filter_map(|(id, scene)| VelocityFactor::of(id, scene)),
+        );
         out.sort_unstable_by(|a, b| {
             a.distance
                 .total_cmp(&b.distance)
@@ -120,25 +153,10 @@ impl State {
     /// start first (`[COOP-OUT-ORDER.1]`). Allocates only if `out` has too little capacity.
     pub fn steering_factors_into(&self, out: &mut Vec<SteeringFactor>) {
         out.clear();
-        for (id, scene) in self.scenes_in_any_order() {
-            if let Geometry::Steering {
-                poses,
-                distances,
-                direction,
-                status,
-            } = scene.geometry()
-            {
-                out.push(SteeringFactor {
-                    poses: *poses,
-                    distances: *distances,
-                    direction: *direction,
-                    status: *status,
-                    behavior: scene.module().behavior,
-                    sequence: scene.module().sequence,
-                    cooperation: CooperationStatus::of(id, scene),
-                });
-            }
-        }
+        out.extend(
+            self.scenes_in_any_order()
+                .filter_map(|(id, scene)| SteeringFactor::of(id, scene)),
+        );
         out.sort_unstable_by(|a, b| {
             let [a_start, _] = a.distances;
             let [b_start, _] = b.distances;
@@ -177,23 +195,11 @@ impl State {
             Geometry::Velocity { distance, .. } => Some(*distance),
             Geometry::Steering { .. } => None,
         });
-        for (id, scene) in keys.iter().filter_map(|&key| self.keyed_scene(key)) {
-            if let Geometry::Velocity {
-                pose,
-                distance,
-                status,
-            } = scene.geometry()
-            {
-                velocity.push(VelocityFactor {
-                    pose: *pose,
-                    distance: *distance,
-                    status: *status,
-                    behavior: scene.module().behavior,
-                    sequence: scene.module().sequence,
-                    cooperation: CooperationStatus::of(id, scene),
-                });
-            }
-        }
+        velocity.extend(
+            keys.iter()
+                .filter_map(|&key| self.keyed_scene(key))
+                .filter_map(|(id, scene)| VelocityFactor::of(id, scene)),
+        );
         // [COOP-OUT-ORDER.1] Steering scenes, nearest start first; ties by identifier.
         self.sort_keys(keys, |scene| match scene.geometry() {
             Geometry::Steering {
@@ -202,25 +208,11 @@ impl State {
             } => Some(*start),
             Geometry::Velocity { .. } => None,
         });
-        for (id, scene) in keys.iter().filter_map(|&key| self.keyed_scene(key)) {
-            if let Geometry::Steering {
-                poses,
-                distances,
-                direction,
-                status,
-            } = scene.geometry()
-            {
-                steering.push(SteeringFactor {
-                    poses: *poses,
-                    distances: *distances,
-                    direction: *direction,
-                    status: *status,
-                    behavior: scene.module().behavior,
-                    sequence: scene.module().sequence,
-                    cooperation: CooperationStatus::of(id, scene),
-                });
-            }
-        }
+        steering.extend(
+            keys.iter()
+                .filter_map(|&key| self.keyed_scene(key))
+                .filter_map(|(id, scene)| SteeringFactor::of(id, scene)),
+        );
     }
 
     /// Fills `keys` with one key for each live scene `distance` gives a distance for, sorted
