@@ -79,10 +79,30 @@ impl Hash for Distance {
 }
 
 impl Distance {
-    /// A total order: negative before positive, NaN last (`f32::total_cmp`); the same as `Ord`.
+    /// The factor lists' order of distances (`[COOP-OUT-ORDER.1]`), a total order; the same as
+    /// `Ord`. Ascending, `-inf` first, `-0.0` before `0.0`, and every NaN, of either sign, after
+    /// every number: positive NaNs, then negative ones, each in IEEE 754 total order. That is
+    /// `f32::total_cmp` with the negative NaNs, which it puts first, moved to the end.
     #[must_use]
     pub fn total_cmp(&self, other: &Self) -> Ordering {
-        self.0.total_cmp(&other.0)
+        self.order_key().cmp(&other.order_key())
+    }
+
+    /// The distance's place in [`total_cmp`](Self::total_cmp)'s order, as an unsigned number:
+    /// one key for each bit pattern, so keys compare as the distances do.
+    #[must_use]
+    pub(crate) fn order_key(self) -> u32 {
+        /// How many keys IEEE 754 total order gives the negative NaNs, ahead of `-inf`.
+        const NEGATIVE_NANS: u32 = (1 << 23) - 1;
+        let bits = self.0.to_bits();
+        // IEEE 754 total order: `-NaN`, `-inf`, …, `-0.0`, `0.0`, …, `inf`, `NaN`.
+        let total = if bits >> 31 == 1 {
+            !bits
+        } else {
+            bits | (1 << 31)
+        };
+        // Turned so that `-inf` is 0 and the negative NaNs follow the positive ones at the top.
+        total.wrapping_sub(NEGATIVE_NANS)
     }
 }
 
@@ -93,7 +113,8 @@ impl PartialOrd for Distance {
 }
 
 impl Ord for Distance {
-    /// IEEE 754 total order (`-0.0 < 0.0`, NaN last): consistent with equality.
+    /// [`Distance::total_cmp`] (`-0.0 < 0.0`, NaN of either sign last): consistent with
+    /// equality.
     fn cmp(&self, other: &Self) -> Ordering {
         self.total_cmp(other)
     }
@@ -223,6 +244,21 @@ impl Geometry {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The keys at the seams of the order: `-inf` first, `inf` below every NaN, positive NaNs
+    /// below negative ones, and each bit pattern its own key.
+    #[test]
+    fn order_keys_put_every_nan_last() {
+        let key = |bits: u32| Distance(f32::from_bits(bits)).order_key();
+        assert_eq!(Distance(f32::NEG_INFINITY).order_key(), 0);
+        assert!(key(0x8000_0000) < key(0)); // -0.0 before 0.0
+        assert!(Distance(f32::INFINITY).order_key() < key(0x7f80_0001)); // inf before NaN
+        assert_eq!(key(0x7f80_0001), Distance(f32::INFINITY).order_key() + 1);
+        assert!(key(0x7fff_ffff) < key(0xffff_ffff)); // positive NaNs before negative ones
+        assert_eq!(key(0x7fff_ffff) + 1, key(0xffff_ffff));
+        assert_eq!(key(0xff80_0001), u32::MAX);
+        assert!(key(0xffc0_0000) < key(0xff80_0001));
+    }
 
     #[test]
     fn floats_compare_by_bits() {

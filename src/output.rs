@@ -217,22 +217,21 @@ impl State {
 
     /// Fills `keys` with one key for each live scene `distance` gives a distance for, sorted
     /// as `[COOP-OUT-ORDER.1]` orders the scenes. A key holds, from the most significant bits
-    /// down: the distance's place in IEEE 754 total order, the identifier's high 64 bits, the
-    /// scene's position in the table. Sorting the keys therefore sorts by distance and then by
-    /// identifier, except where two identifiers share their high half (almost never for
-    /// random UUIDs): such runs are re-sorted by the whole identifier.
+    /// down: the distance's place in that order ([`Distance::order_key`]), the identifier's
+    /// high 64 bits, the scene's position in the table. Sorting the keys therefore sorts by
+    /// distance and then by identifier, except where two identifiers share their high half
+    /// (almost never for random UUIDs): such runs are re-sorted by the whole identifier.
     ///
     /// Positions must fit in 32 bits; [`factors_into`](Self::factors_into) checks that first.
     fn sort_keys(&self, keys: &mut Vec<u128>, distance: impl Fn(&Scene) -> Option<Distance>) {
         keys.clear();
         for (position, (id, scene)) in self.scenes_in_any_order().enumerate() {
-            let (Some(Distance(metres)), Ok(position)) = (distance(scene), u32::try_from(position))
-            else {
+            let (Some(distance), Ok(position)) = (distance(scene), u32::try_from(position)) else {
                 continue;
             };
             let high = id.to_u128() >> 64;
             keys.push(
-                (u128::from(total_order_key(metres)) << 96) | (high << 32) | u128::from(position),
+                (u128::from(distance.order_key()) << 96) | (high << 32) | u128::from(position),
             );
         }
         keys.sort_unstable();
@@ -306,17 +305,6 @@ pub struct FactorLists {
     pub steering: Vec<SteeringFactor>,
     /// Sort keys, kept only so that their memory is reused.
     keys: Vec<u128>,
-}
-
-/// A distance's place in IEEE 754 total order, as an unsigned number: the order `f32::total_cmp`
-/// gives (`-NaN`, `-inf`, …, `-0.0`, `0.0`, …, `inf`, `NaN`).
-fn total_order_key(metres: f32) -> u32 {
-    let bits = metres.to_bits();
-    if bits >> 31 == 1 {
-        !bits
-    } else {
-        bits | (1 << 31)
-    }
 }
 
 /// The answer to `set_commands`: the AD API status plus one outcome per command, in order.
