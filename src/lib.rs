@@ -83,6 +83,7 @@ pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Ret
 pub use rule::Rule;
 pub use shared::Shared;
 pub use state::{Config, ConfigError, Limits, Scene, State, Transition};
+pub use table::TableLayout;
 
 pub mod guide {
     //! Guides for the library's users, with examples that compile and run as doctests.

@@ -5,7 +5,7 @@
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
-use crate::table::IdTable;
+use crate::table::{IdTable, TableLayout};
 
 use crate::{
     merge, Command, CommandFailure, CommandOutcome, Decision, Geometry, Input, Invariant, Module,
@@ -332,6 +332,21 @@ impl State {
         })
     }
 
+    /// This state with its live scenes laid out as `layout` says. Nothing a rule, a query or a
+    /// comparison sees changes: the layout is speed only. The model checker uses
+    /// [`TableLayout::Colliding`] to explore the hashed table with a handful of scenes.
+    #[must_use]
+    pub fn with_table_layout(mut self, layout: TableLayout) -> Self {
+        self.scenes = self.scenes.relaid(layout);
+        self
+    }
+
+    /// How the live scenes are laid out.
+    #[must_use]
+    pub const fn table_layout(&self) -> TableLayout {
+        self.scenes.layout()
+    }
+
     /// Applies one input: the only way the state changes.
     ///
     /// Deterministic: the result depends on `self` and `input` only; nothing else is read and
@@ -345,19 +360,6 @@ impl State {
         let transition = self.commit(plan);
         debug_assert_eq!(self.check_invariants(), Ok(()), "after {input:?}");
         Ok(transition)
-    }
-
-    /// The by-value form of [`apply`](Self::apply): the next state, or the rejection. The same
-    /// decision and the same writes; a rejection costs no copy of the state.
-    ///
-    /// # Errors
-    /// As [`apply`](Self::apply).
-    pub fn after(&self, input: &Input) -> Result<(Self, Transition), Rejection> {
-        let plan = self.decide(input)?;
-        let mut next = self.clone();
-        let transition = next.commit(plan);
-        debug_assert_eq!(next.check_invariants(), Ok(()), "after {input:?}");
-        Ok((next, transition))
     }
 
     /// The transition function's decision: which rule the input fires, and what it will
@@ -810,11 +812,11 @@ impl State {
     /// for symmetry reduction.
     #[must_use]
     pub fn relabel(&self, rename: impl Fn(SceneId) -> SceneId) -> Option<Self> {
-        let scenes: IdTable<Scene> = self
-            .scenes
-            .iter()
-            .map(|(id, scene)| (rename(id), scene.clone()))
-            .collect();
+        let scenes = self.scenes.like(
+            self.scenes
+                .iter()
+                .map(|(id, scene)| (rename(id), scene.clone())),
+        );
         let retired: BTreeMap<SceneId, Retirement> = self
             .retired
             .iter()

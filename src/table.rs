@@ -15,6 +15,11 @@
 //! Equality and hashing see only the entries in identifier order, never the layout: two tables
 //! with the same entries are equal, whatever happened to them before.
 //!
+//! [`TableLayout::Colliding`] makes every table large from its first entry, under a hash that
+//! sends identifiers to two buckets at the end of a small index: the model checker uses it to
+//! explore probing, wrap-around deletion and index rebuilds with a handful of scenes. The
+//! layout is invisible to equality, hashing, iteration and every rule.
+//!
 //! The hash is fixed and not keyed: the core draws no random numbers. Identifiers are chosen by
 //! scene owners, which draw random UUIDs; owners that chose identifiers to collide would make
 //! searches slower (at worst a scan of the live scenes, the cost of the linear registry the
@@ -22,7 +27,6 @@
 
 use core::fmt;
 use core::hash::{Hash, Hasher};
-use core::marker::PhantomData;
 
 use crate::SceneId;
 
@@ -32,9 +36,73 @@ pub(crate) const SMALL: usize = 16;
 /// A bucket of the index that holds no position.
 const EMPTY: usize = usize::MAX;
 
+/// How a state's table of live scenes is laid out. No rule, query or comparison can tell the
+/// layouts apart; only speed differs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum TableLayout {
+    /// A sorted vector while at most 16 scenes are live, then a hash index: what planners use.
+    #[default]
+    Adaptive,
+    /// A hash index from the first scene, under a hash that sends every identifier to one of
+    /// the two last buckets of an index that starts with two buckets and doubles as it fills.
+    /// Slow, and there for verification: with a handful of scenes, every search probes, every
+    /// cluster wraps round the end of the index, and removals shift entries across it.
+    Colliding,
+}
+
+/// What a layout means to the table: when the index starts, how it hashes, its least size.
+#[derive(Clone, Copy)]
+struct Layout {
+    /// The most entries kept as a sorted vector without an index.
+    small: usize,
+    /// The hash of an identifier; its low bits pick the bucket.
+    hash: fn(SceneId) -> u64,
+    /// The fewest buckets an index has.
+    min_buckets: usize,
+    /// The layout this stands for.
+    name: TableLayout,
+}
+
+impl Layout {
+    const fn of(layout: TableLayout) -> Self {
+        match layout {
+            TableLayout::Adaptive => Self {
+                small: SMALL,
+                hash: spread,
+                min_buckets: 2 * SMALL,
+                name: layout,
+            },
+            TableLayout::Colliding => Self {
+                small: 0,
+                hash: colliding,
+                min_buckets: 2,
+                name: layout,
+            },
+        }
+    }
+}
+
+/// The table's hash of an identifier: its halves folded together and spread by a
+/// multiplication (Fibonacci hashing), its high bits folded into the low ones that pick the
+/// bucket. Cheap, since owners draw identifiers at random; fixed, so that the table behaves the
+/// same in every run.
+fn spread(id: SceneId) -> u64 {
+    let value = id.to_u128();
+    let folded = (value as u64) ^ ((value >> 64) as u64).rotate_left(29);
+    let h = folded.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    h ^ (h >> 32)
+}
+
+/// [`TableLayout::Colliding`]'s hash: one of the two last buckets of any index.
+fn colliding(id: SceneId) -> u64 {
+    u64::MAX - (spread(id) & 1)
+}
+
 /// A map from scene identifiers to values, ordered by identifier.
 #[derive(Clone)]
-pub(crate) struct IdTable<V, H = Spread> {
+pub(crate) struct IdTable<V> {
     /// The entries: sorted by identifier while the table is small, in no particular order once
     /// it is large.
     entries: Vec<(SceneId, V)>,
@@ -44,8 +112,8 @@ pub(crate) struct IdTable<V, H = Spread> {
     /// a power-of-two length, at most half full, so a probe always ends at an empty bucket.
     /// Empty while small; once built it stays, whatever the table shrinks to.
     index: Vec<usize>,
-    /// The hash, a type only.
-    hash: PhantomData<H>,
+    /// When the index starts and how it hashes.
+    layout: Layout,
 }
 
 /// Where a probe of the index ended.
@@ -59,38 +127,52 @@ enum Probe {
     Full,
 }
 
-/// How an [`IdTable`] hashes identifiers into its index: [`Spread`] unless a test needs
-/// identifiers that collide.
-pub(crate) trait IdHash {
-    /// The 64-bit hash of `id`; its low bits pick the bucket.
-    fn hash(id: SceneId) -> u64;
-}
-
-/// The table's hash of an identifier: its halves folded together and spread by a
-/// multiplication (Fibonacci hashing), its high bits folded into the low ones that pick the
-/// bucket. Cheap, since owners draw identifiers at random; fixed, so that the table behaves the
-/// same in every run.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Spread;
-
-impl IdHash for Spread {
-    fn hash(id: SceneId) -> u64 {
-        let value = id.to_u128();
-        let folded = (value as u64) ^ ((value >> 64) as u64).rotate_left(29);
-        let h = folded.wrapping_mul(0x9e37_79b9_7f4a_7c15);
-        h ^ (h >> 32)
-    }
-}
-
-impl<V, H: IdHash> IdTable<V, H> {
-    /// An empty table.
+impl<V> IdTable<V> {
+    /// An empty table with the default layout.
     pub(crate) const fn new() -> Self {
+        Self::with_layout(TableLayout::Adaptive)
+    }
+
+    /// An empty table laid out as `layout` says.
+    pub(crate) const fn with_layout(layout: TableLayout) -> Self {
+        Self::with(Layout::of(layout))
+    }
+
+    const fn with(layout: Layout) -> Self {
         Self {
             entries: Vec::new(),
             order: Vec::new(),
             index: Vec::new(),
-            hash: PhantomData,
+            layout,
         }
+    }
+
+    /// The layout.
+    pub(crate) const fn layout(&self) -> TableLayout {
+        self.layout.name
+    }
+
+    /// The same entries laid out as `layout` says.
+    pub(crate) fn relaid(self, layout: TableLayout) -> Self {
+        let mut table = Self::with_layout(layout);
+        for (id, value) in self {
+            table.insert(id, value);
+        }
+        table
+    }
+
+    /// A table of these entries, laid out as this one; of two with one identifier, the later
+    /// one stays.
+    pub(crate) fn like(&self, entries: impl IntoIterator<Item = (SceneId, V)>) -> Self {
+        let mut table = Self::with(self.layout);
+        for (id, value) in entries {
+            table.insert(id, value);
+        }
+        table
+    }
+
+    fn hash_of(&self, id: SceneId) -> u64 {
+        (self.layout.hash)(id)
     }
 
     /// How many entries there are.
@@ -138,7 +220,9 @@ impl<V, H: IdHash> IdTable<V, H> {
         if !self.is_large() {
             return self.entries.iter().position(|(key, _)| *key == id);
         }
-        match self.probe(H::hash(id), |position| self.id_at(position) == Some(id)) {
+        match self.probe(self.hash_of(id), |position| {
+            self.id_at(position) == Some(id)
+        }) {
             Probe::Found(bucket) => self.index.get(bucket).copied(),
             Probe::Vacant(_) | Probe::Full => None,
         }
@@ -183,7 +267,7 @@ impl<V, H: IdHash> IdTable<V, H> {
         if let Some(old) = self.get_mut(id) {
             return Some(core::mem::replace(old, value));
         }
-        if !self.is_large() && self.entries.len() < SMALL {
+        if !self.is_large() && self.entries.len() < self.layout.small {
             let at = self
                 .entries
                 .binary_search_by(|(key, _)| key.cmp(&id))
@@ -199,7 +283,7 @@ impl<V, H: IdHash> IdTable<V, H> {
         self.entries.push((id, value));
         let rank = self.rank(id).unwrap_or_else(|rank| rank);
         self.order.insert(rank, position);
-        match self.probe(H::hash(id), |_| false) {
+        match self.probe(self.hash_of(id), |_| false) {
             Probe::Vacant(bucket) if self.entries.len() * 2 <= self.index.len() => {
                 if let Some(slot) = self.index.get_mut(bucket) {
                     *slot = position;
@@ -212,13 +296,15 @@ impl<V, H: IdHash> IdTable<V, H> {
 
     /// Builds the index afresh, with at least twice as many buckets as entries.
     fn rebuild_index(&mut self) {
-        let buckets = (self.entries.len() * 2).next_power_of_two().max(2 * SMALL);
+        let buckets = (self.entries.len() * 2)
+            .next_power_of_two()
+            .max(self.layout.min_buckets);
         self.index = vec![EMPTY; buckets];
         for position in 0..self.entries.len() {
             let Some(id) = self.id_at(position) else {
                 continue;
             };
-            if let Probe::Vacant(bucket) = self.probe(H::hash(id), |_| false) {
+            if let Probe::Vacant(bucket) = self.probe(self.hash_of(id), |_| false) {
                 if let Some(slot) = self.index.get_mut(bucket) {
                     *slot = position;
                 }
@@ -235,7 +321,7 @@ impl<V, H: IdHash> IdTable<V, H> {
         if let Ok(rank) = self.rank(id) {
             self.order.remove(rank);
         }
-        if let Probe::Found(bucket) = self.probe(H::hash(id), |at| at == position) {
+        if let Probe::Found(bucket) = self.probe(self.hash_of(id), |at| at == position) {
             self.vacate(bucket);
         }
         let last = self.entries.len() - 1;
@@ -248,7 +334,7 @@ impl<V, H: IdHash> IdTable<V, H> {
                         *slot = position;
                     }
                 }
-                if let Probe::Found(bucket) = self.probe(H::hash(moved), |at| at == last) {
+                if let Probe::Found(bucket) = self.probe(self.hash_of(moved), |at| at == last) {
                     if let Some(slot) = self.index.get_mut(bucket) {
                         *slot = position;
                     }
@@ -272,7 +358,7 @@ impl<V, H: IdHash> IdTable<V, H> {
             let Some(id) = self.id_at(position) else {
                 break; // `EMPTY`: the run of full buckets ends here.
             };
-            let home = self.home(H::hash(id));
+            let home = self.home(self.hash_of(id));
             // The entry may fill the hole if the hole lies between its home and where it is.
             if next.wrapping_sub(home) & mask >= next.wrapping_sub(hole) & mask {
                 if let Some(slot) = self.index.get_mut(hole) {
@@ -288,7 +374,7 @@ impl<V, H: IdHash> IdTable<V, H> {
     }
 
     /// Every entry, in identifier order.
-    pub(crate) fn iter(&self) -> Iter<'_, V, H> {
+    pub(crate) fn iter(&self) -> Iter<'_, V> {
         Iter {
             table: self,
             rank: 0,
@@ -333,13 +419,13 @@ impl<V, H: IdHash> IdTable<V, H> {
     }
 }
 
-impl<V, H: IdHash> Default for IdTable<V, H> {
+impl<V> Default for IdTable<V> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<V, H: IdHash> FromIterator<(SceneId, V)> for IdTable<V, H> {
+impl<V> FromIterator<(SceneId, V)> for IdTable<V> {
     /// A table of these entries; of two with one identifier, the later one stays.
     fn from_iter<I: IntoIterator<Item = (SceneId, V)>>(entries: I) -> Self {
         let mut table = Self::new();
@@ -350,7 +436,7 @@ impl<V, H: IdHash> FromIterator<(SceneId, V)> for IdTable<V, H> {
     }
 }
 
-impl<V, H> IntoIterator for IdTable<V, H> {
+impl<V> IntoIterator for IdTable<V> {
     type Item = (SceneId, V);
     type IntoIter = std::vec::IntoIter<(SceneId, V)>;
 
@@ -370,12 +456,12 @@ impl<V, H> IntoIterator for IdTable<V, H> {
 }
 
 /// The entries of an [`IdTable`], in identifier order.
-pub(crate) struct Iter<'a, V, H> {
-    table: &'a IdTable<V, H>,
+pub(crate) struct Iter<'a, V> {
+    table: &'a IdTable<V>,
     rank: usize,
 }
 
-impl<'a, V, H: IdHash> Iterator for Iter<'a, V, H> {
+impl<'a, V> Iterator for Iter<'a, V> {
     type Item = (SceneId, &'a V);
 
     fn next(&mut self) -> Option<Self::Item> {
@@ -395,17 +481,17 @@ impl<'a, V, H: IdHash> Iterator for Iter<'a, V, H> {
     }
 }
 
-impl<V, H: IdHash> ExactSizeIterator for Iter<'_, V, H> {}
+impl<V> ExactSizeIterator for Iter<'_, V> {}
 
-impl<V: PartialEq, H: IdHash> PartialEq for IdTable<V, H> {
+impl<V: PartialEq> PartialEq for IdTable<V> {
     fn eq(&self, other: &Self) -> bool {
         self.len() == other.len() && self.iter().eq(other.iter())
     }
 }
 
-impl<V: Eq, H: IdHash> Eq for IdTable<V, H> {}
+impl<V: Eq> Eq for IdTable<V> {}
 
-impl<V: Hash, H: IdHash> Hash for IdTable<V, H> {
+impl<V: Hash> Hash for IdTable<V> {
     fn hash<S: Hasher>(&self, state: &mut S) {
         state.write_usize(self.len());
         for entry in self.iter() {
@@ -414,7 +500,7 @@ impl<V: Hash, H: IdHash> Hash for IdTable<V, H> {
     }
 }
 
-impl<V: fmt::Debug, H: IdHash> fmt::Debug for IdTable<V, H> {
+impl<V: fmt::Debug> fmt::Debug for IdTable<V> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_map().entries(self.iter()).finish()
     }
@@ -426,7 +512,7 @@ mod tests {
 
     use proptest::prelude::*;
 
-    use super::{IdHash, IdTable, Spread, SMALL};
+    use super::{spread, IdTable, Layout, TableLayout, SMALL};
     use crate::SceneId;
 
     /// One operation on a table.
@@ -451,31 +537,29 @@ mod tests {
         ]
     }
 
-    /// Hashes that send every identifier to one of eight buckets next to the end of the
+    /// A layout that sends every identifier to one of eight buckets next to the end of the
     /// index, so that clusters are long and wrap round to its start: the paths of probing and
     /// of deletion that random identifiers seldom take.
-    struct Wrapping;
-
-    impl IdHash for Wrapping {
-        fn hash(id: SceneId) -> u64 {
-            u64::MAX - (Spread::hash(id) & 7)
+    fn wrapping() -> Layout {
+        Layout {
+            hash: |id| u64::MAX - (spread(id) & 7),
+            ..Layout::of(TableLayout::Adaptive)
         }
     }
 
-    /// A hash under which every identifier collides.
-    struct Constant;
-
-    impl IdHash for Constant {
-        fn hash(_: SceneId) -> u64 {
-            0
+    /// A layout under which every identifier collides.
+    fn constant() -> Layout {
+        Layout {
+            hash: |_| 0,
+            ..Layout::of(TableLayout::Adaptive)
         }
     }
 
-    /// Applies `ops` to a table hashing with `H` and to a `BTreeMap`, and checks that they
+    /// Applies `ops` to a table laid out as `layout` and to a `BTreeMap`, and checks that they
     /// answer alike, that the table stays consistent, and that it equals (and hashes as) a
-    /// table built afresh from its entries.
-    fn behaves_as_an_ordered_map_with<H: IdHash>(ops: &[Op]) -> Result<(), TestCaseError> {
-        let mut table = IdTable::<u32, H>::new();
+    /// table built afresh from its entries, in any layout.
+    fn behaves_as_an_ordered_map_with(layout: Layout, ops: &[Op]) -> Result<(), TestCaseError> {
+        let mut table = IdTable::<u32>::with(layout);
         let mut model = BTreeMap::new();
         for op in ops {
             match *op {
@@ -495,9 +579,13 @@ mod tests {
         let walked: Vec<_> = table.iter().map(|(k, v)| (k, *v)).collect();
         let expected: Vec<_> = model.iter().map(|(k, v)| (*k, *v)).collect();
         prop_assert_eq!(&walked, &expected);
-        let afresh: IdTable<u32, H> = expected.iter().copied().collect();
+        let afresh: IdTable<u32> = expected.iter().copied().collect();
         prop_assert_eq!(&afresh, &table);
         prop_assert_eq!(fingerprint(&afresh), fingerprint(&table));
+        let relaid = afresh.relaid(TableLayout::Colliding);
+        prop_assert!(relaid.is_consistent());
+        prop_assert_eq!(&relaid, &table);
+        prop_assert_eq!(fingerprint(&relaid), fingerprint(&table));
         prop_assert_eq!(table.into_iter().collect::<Vec<_>>(), expected);
         Ok(())
     }
@@ -507,13 +595,14 @@ mod tests {
         /// with its own hash and with hashes that make every cluster long or wrap round.
         #[test]
         fn behaves_as_an_ordered_map(ops in proptest::collection::vec(op(), 0..400)) {
-            behaves_as_an_ordered_map_with::<Spread>(&ops)?;
-            behaves_as_an_ordered_map_with::<Wrapping>(&ops)?;
-            behaves_as_an_ordered_map_with::<Constant>(&ops)?;
+            behaves_as_an_ordered_map_with(Layout::of(TableLayout::Adaptive), &ops)?;
+            behaves_as_an_ordered_map_with(Layout::of(TableLayout::Colliding), &ops)?;
+            behaves_as_an_ordered_map_with(wrapping(), &ops)?;
+            behaves_as_an_ordered_map_with(constant(), &ops)?;
         }
     }
 
-    fn fingerprint<H: IdHash>(table: &IdTable<u32, H>) -> u64 {
+    fn fingerprint(table: &IdTable<u32>) -> u64 {
         use core::hash::{Hash, Hasher};
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         table.hash(&mut hasher);
@@ -533,5 +622,26 @@ mod tests {
         }
         assert!(table.is_large());
         assert_eq!(table, IdTable::new());
+    }
+
+    #[test]
+    fn the_colliding_layout_indexes_from_the_first_entry_and_wraps_round() {
+        let mut table = IdTable::<usize>::with_layout(TableLayout::Colliding);
+        assert_eq!(table.insert(SceneId::from_u128(1), 1), None);
+        assert!(table.is_large());
+        assert_eq!(table.index.len(), 2);
+        for n in 2..=3 {
+            table.insert(SceneId::from_u128(n), n as usize);
+        }
+        assert_eq!(table.index.len(), 8, "the index doubled as it filled");
+        let homes: Vec<usize> = (1..=3)
+            .map(|n| table.home(table.hash_of(SceneId::from_u128(n))))
+            .collect();
+        assert!(homes.iter().all(|home| *home >= 6), "{homes:?}");
+        assert!(
+            table.index.iter().take(2).any(|at| *at != super::EMPTY),
+            "a cluster wrapped round"
+        );
+        assert!(table.is_consistent());
     }
 }

@@ -26,8 +26,9 @@ fn steady_state_cycles_do_not_allocate() {
     assert_eq!(region.change().allocations, 1);
     drop(boxed);
 
-    // From one B-tree leaf to a tree of several levels. Test builds keep debug assertions, so
-    // the invariant check after every input is counted too.
+    // The scene table in both its forms: a sorted vector (1 and 10 scenes, at most 16) and
+    // hash-indexed (100 and 1 000). Test builds keep debug assertions, so the invariant check
+    // after every input is counted too.
     for scenes in [1, 10, 100, 1_000] {
         let mut planner = Planner::<State>::new(scenes);
         let mut out = Outputs::default();

@@ -4,7 +4,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::{
-    Decision, Geometry, Input, Module, OperatorDecision, Phase, Policy, PolicySetting,
+    Decision, Distance, Geometry, Input, Module, OperatorDecision, Phase, Policy, PolicySetting,
     RetireReason, Scene, SceneId, Transition,
 };
 
@@ -230,8 +230,8 @@ impl Rtc {
             })
             .collect();
         statuses.sort_by(|a, b| {
-            a.start_distance
-                .total_cmp(&b.start_distance)
+            Distance(a.start_distance)
+                .total_cmp(&Distance(b.start_distance))
                 .then(a.uuid.cmp(&b.uuid))
         });
         CooperateStatusArray { stamp, statuses }
@@ -605,17 +605,18 @@ impl Interface<'_> {
         let transitions = if phase == Phase::WaitingForExecution {
             vec![self.state.apply(&register)?]
         } else {
-            let (registered, first) = self.state.after(&register)?;
+            // Both inputs on a copy, so that a refused second one leaves nothing behind.
+            let mut next = self.state.clone();
+            let first = next.apply(&register)?;
             let update = update_input(id, module, phase, decision, requested, geometry);
-            let (moved, second) =
-                registered
-                    .after(&update)
-                    .map_err(|rejection| RtcError::InitialPhase {
-                        id,
-                        phase,
-                        rejection,
-                    })?;
-            *self.state = moved;
+            let second = next
+                .apply(&update)
+                .map_err(|rejection| RtcError::InitialPhase {
+                    id,
+                    phase,
+                    rejection,
+                })?;
+            *self.state = next;
             vec![first, second]
         };
         prune(self.routes, self.state);
