@@ -1,9 +1,11 @@
 //! One test per definition of spec §6, named after its tag.
 
 mod common;
+mod spec_tables;
 
 use common::*;
 use cooperation::*;
+use spec_tables::*;
 
 /// `[COOP-RETIRE.1]`: the retired set keeps the newest `retired_capacity` identifiers; a
 /// forgotten identifier is unknown again.
@@ -48,16 +50,40 @@ fn coop_merge_1() {
     );
     assert_eq!(state.merged_decision(id(2)), Some(Decision::Activate));
     assert_eq!(state.merged_decision(id(9)), None);
-    for operator in OperatorDecision::ALL {
-        for policy in Policy::ALL {
-            for module in Decision::ALL {
-                let expected = match (operator, policy) {
-                    (OperatorDecision::Deactivate, _) => Decision::Deactivate,
-                    (OperatorDecision::Activate, _) => Decision::Activate,
-                    (OperatorDecision::Undecided, Policy::Required) => Decision::Deactivate,
-                    _ => module,
-                };
-                assert_eq!(merge(operator, policy, module), expected);
+    // Every row of the spec's table, and every row the design page's example table (as the
+    // spec quotes it) stands for, through a live scene (`one_scene`).
+    let merged =
+        |operator, policy, module| one_scene(policy, module, operator).merged_decision(id(1));
+    let spec = spec();
+    let rows = table(&spec, "| operator | policy | module | merged |");
+    assert_eq!(rows.len(), 16, "the whole domain");
+    for row in &rows {
+        let [o, p, m, expected] = row.as_slice() else {
+            panic!("4 cells: {row:?}")
+        };
+        let (policy, module) = (
+            policy(p).expect("a policy"),
+            decision(m).expect("a decision"),
+        );
+        assert_eq!(
+            merged(operator(o), policy, module),
+            decision(expected),
+            "{row:?}"
+        );
+    }
+    let example = table(
+        &spec,
+        "| Operator decision | Policy | Module decision | Merged |",
+    );
+    for row in &example {
+        for policy in expand(policy(&row[1]), &Policy::ALL) {
+            for module in expand(decision(&row[2]), &Decision::ALL) {
+                let expected = decision(&row[3]);
+                assert_eq!(
+                    merged(operator(&row[0]), policy, module),
+                    expected,
+                    "{row:?}"
+                );
             }
         }
     }
@@ -269,7 +295,7 @@ fn coop_out_status_1() {
 }
 
 /// `[COOP-OUT-ORDER.1]`: velocity and steering factors, each nearest first, ties by identifier,
-/// NaN last.
+/// NaN of either sign last.
 #[test]
 fn coop_out_order_1() {
     let mut state = State::new(Config {
@@ -280,7 +306,18 @@ fn coop_out_order_1() {
         ..config()
     })
     .expect("valid");
-    let velocity = [(1, 30.0), (2, f32::NAN), (3, -5.0), (4, 30.0)];
+    let velocity = [
+        (1, 30.0),
+        (2, f32::NAN),
+        (3, -5.0),
+        (4, 30.0),
+        (5, -f32::NAN),
+        (6, f32::NEG_INFINITY),
+        (7, f32::INFINITY),
+        (8, -0.0),
+        (9, 0.0),
+        (12, f32::from_bits(0xffc0_0001)),
+    ];
     for (n, distance) in velocity {
         let input = Input::Register {
             id: id(n),
@@ -304,7 +341,15 @@ fn coop_out_order_1() {
     let mut velocity_out = Vec::new();
     state.velocity_factors_into(&mut velocity_out);
     let order: Vec<SceneId> = velocity_out.iter().map(|f| f.cooperation.id).collect();
-    assert_eq!(order, [id(3), id(1), id(4), id(2)]);
+    // As the spec says: ascending, -0.0 before 0.0, equal distances by identifier, every NaN
+    // last (a negative one too: IEEE 754 total order would put it first), positive NaNs before
+    // negative ones, negative NaNs in total order (the larger payload first).
+    let expected = [6, 3, 8, 9, 1, 4, 7, 2, 12, 5].map(id);
+    assert_eq!(order, expected);
+    let mut lists = FactorLists::default();
+    state.factors_into(&mut lists);
+    let order: Vec<SceneId> = lists.velocity.iter().map(|f| f.cooperation.id).collect();
+    assert_eq!(order, expected, "factors_into, which sorts keys");
     assert!(velocity_out
         .iter()
         .all(|f| f.behavior == Behavior::LaneChange));

@@ -8,22 +8,11 @@ use common::*;
 use cooperation::*;
 use serde_json::{json, Value};
 
-/// A reachable state: one scene live per module, one retired.
+/// A reachable state: one scene live per module (1 and 2), two retired (3, then 4), every
+/// age at the TTL.
 fn reachable() -> State {
     let mut state = with_scenes();
-    fires(
-        &mut state,
-        register(id(3), LANE_CHANGE, Decision::Activate),
-        Rule::RegisterNew,
-    );
-    fires(
-        &mut state,
-        Input::Remove {
-            id: id(3),
-            module: LANE_CHANGE,
-        },
-        Rule::OwnerRemove,
-    );
+    churn(&mut state, 3..=4);
     fires(
         &mut state,
         Input::Tick { elapsed_ms: TTL_MS },
@@ -45,6 +34,21 @@ fn refused(corrupt: impl FnOnce(&mut Value)) -> String {
         .to_string()
 }
 
+/// As [`refused`], for a corruption that keeps the length of every list in the state (the
+/// scenes, the retired identifiers, their order, the policies): the check must read the
+/// contents, not only count them.
+fn refused_keeping_lengths(corrupt: impl FnOnce(&mut Value)) -> String {
+    let lengths = |v: &Value| {
+        ["scenes", "retired", "retired_order", "policies"]
+            .map(|list| v[list].as_array().map(Vec::len))
+    };
+    refused(|v| {
+        let before = lengths(v);
+        corrupt(v);
+        assert_eq!(lengths(v), before, "the corruption keeps every length");
+    })
+}
+
 fn first_scene(value: &mut Value) -> &mut Value {
     &mut value["scenes"][0][1]
 }
@@ -55,6 +59,13 @@ fn coop_inv_disjoint_1() {
         let live = v["scenes"][0][0].clone();
         v["retired"].as_array_mut().expect("list").push(json!([live, {"module": {"behavior": "LaneChange", "sequence": "Empty"}, "reason": "Removed"}]));
         v["retired_order"].as_array_mut().expect("list").push(live);
+    });
+    assert!(error.contains("COOP-INV-DISJOINT.1"), "{error}");
+    // The retired identifier 3 renamed to the live 1, in the retired set and in the order.
+    let error = refused_keeping_lengths(|v| {
+        let live = v["scenes"][0][0].clone();
+        v["retired"][0][0] = live.clone();
+        v["retired_order"][0] = live;
     });
     assert!(error.contains("COOP-INV-DISJOINT.1"), "{error}");
 }
@@ -68,11 +79,39 @@ fn coop_inv_retired_order_1() {
         v["retired_order"].as_array_mut().expect("list").push(first);
     });
     assert!(error.contains("COOP-INV-RETIRED-ORDER.1"), "{error}");
+    // An entry of the order replaced by the other retired identifier, by a live one, or by
+    // one that is neither.
+    let replacements = [
+        json!("00000000-0000-0000-0000-000000000004"),
+        json!("00000000-0000-0000-0000-000000000001"),
+        json!("00000000-0000-0000-0000-000000000009"),
+    ];
+    for replacement in replacements {
+        let error = refused_keeping_lengths(|v| v["retired_order"][0] = replacement);
+        assert!(error.contains("COOP-INV-RETIRED-ORDER.1"), "{error}");
+    }
+}
+
+/// A permuted retirement order is not a corruption: it is the state that retiring 4 before 3
+/// reaches, and it loads with its order as written.
+#[test]
+fn a_permuted_retirement_order_is_another_history() {
+    let mut value = serde_json::to_value(reachable()).expect("serializes");
+    value["retired_order"]
+        .as_array_mut()
+        .expect("list")
+        .reverse();
+    let state: State = serde_json::from_value(value).expect("a reachable state loads");
+    let order: Vec<SceneId> = state.retired().map(|(id, _)| id).collect();
+    assert_eq!(order, [id(4), id(3)]);
 }
 
 #[test]
 fn coop_inv_retired_bound_1() {
     let error = refused(|v| v["limits"]["retired_capacity"] = json!(0));
+    assert!(error.contains("COOP-INV-RETIRED-BOUND.1"), "{error}");
+    // One below the two identifiers retired: the bound is exact.
+    let error = refused_keeping_lengths(|v| v["limits"]["retired_capacity"] = json!(1));
     assert!(error.contains("COOP-INV-RETIRED-BOUND.1"), "{error}");
 }
 
@@ -84,19 +123,29 @@ fn coop_inv_live_bound_1() {
 
 #[test]
 fn coop_inv_live_phase_1() {
-    let error = refused(|v| first_scene(v)["phase"] = json!("Succeeded"));
-    assert!(error.contains("COOP-INV-LIVE-PHASE.1"), "{error}");
+    for terminal in ["Succeeded", "Failed"] {
+        let error = refused_keeping_lengths(|v| first_scene(v)["phase"] = json!(terminal));
+        assert!(error.contains("COOP-INV-LIVE-PHASE.1"), "{error}");
+    }
 }
 
 #[test]
 fn coop_inv_age_1() {
-    let error = refused(|v| first_scene(v)["age_ms"] = json!(TTL_MS + 1));
+    let error = refused_keeping_lengths(|v| first_scene(v)["age_ms"] = json!(TTL_MS + 1));
+    assert!(error.contains("COOP-INV-AGE.1"), "{error}");
+    // Every age is at the TTL: a TTL one lower leaves every scene over it.
+    let error = refused_keeping_lengths(|v| v["limits"]["ttl_ms"] = json!(TTL_MS - 1));
     assert!(error.contains("COOP-INV-AGE.1"), "{error}");
 }
 
 #[test]
 fn coop_inv_module_1() {
     let error = refused(|v| v["policies"] = json!([]));
+    assert!(error.contains("COOP-INV-MODULE.1"), "{error}");
+    // A live scene moved to a module that was not configured.
+    let error = refused_keeping_lengths(|v| {
+        first_scene(v)["module"] = serde_json::to_value(INTERSECTION).expect("serializes");
+    });
     assert!(error.contains("COOP-INV-MODULE.1"), "{error}");
 }
 

@@ -2,9 +2,9 @@
 
 mod spec_tables;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
-use cooperation::{merge, Decision, Invariant, OperatorDecision, Phase, Policy, Rule};
+use cooperation::{merge, Decision, Invariant, Limits, OperatorDecision, Phase, Policy, Rule};
 use spec_tables::*;
 
 /// The `#### [TAG]` headings of the spec section whose heading starts `## {number}.`.
@@ -199,4 +199,72 @@ fn lifecycle_table_is_complete_and_matches_the_code() {
             assert_eq!(from.may_become(*to), allowed, "{from} -> {to}");
         }
     }
+}
+
+/// `Limits::default()` is the spec's §10 table, and the defaults the limits' field docs and
+/// docs/trace-format.md's configuration table repeat are the same numbers.
+#[test]
+fn default_limits_are_the_specs() {
+    let number = |text: &str| -> u64 {
+        text.replace(' ', "")
+            .parse()
+            .unwrap_or_else(|_| panic!("not a number: {text:?}"))
+    };
+    let Limits {
+        ttl_ms,
+        max_scenes,
+        retired_capacity,
+        max_batch,
+    } = Limits::default();
+    let count = |n: usize| u64::try_from(n).expect("fits");
+    let code: BTreeMap<String, u64> = [
+        ("ttl_ms", ttl_ms),
+        ("max_scenes", count(max_scenes)),
+        ("retired_capacity", count(retired_capacity)),
+        ("max_batch", count(max_batch)),
+    ]
+    .map(|(name, value)| (name.to_owned(), value))
+    .into();
+    let in_spec: BTreeMap<String, u64> = table(&spec(), "| Limit | Default | Beyond it |")
+        .iter()
+        .map(|row| (row[0].trim_matches('`').to_owned(), number(&row[1])))
+        .collect();
+    assert_eq!(in_spec, code, "spec §10");
+    let read = |path: &str| {
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path))
+            .expect("readable")
+    };
+    let trace_format: BTreeMap<String, u64> = table(
+        &read("docs/trace-format.md"),
+        "| Field | Meaning | Default |",
+    )
+    .iter()
+    .filter_map(|row| {
+        let name = row[0].trim_matches('`').strip_prefix("limits.")?;
+        Some((name.to_owned(), number(&row[2])))
+    })
+    .collect();
+    assert_eq!(trace_format, code, "docs/trace-format.md");
+    // The field docs: `pub NAME: TYPE,` preceded by a doc comment ending "Default N." or
+    // "Default N ms.".
+    let source = read("src/state.rs");
+    let limits = source
+        .split("pub struct Limits {")
+        .nth(1)
+        .and_then(|rest| rest.split("\n}").next())
+        .expect("the Limits struct");
+    let mut documented = BTreeMap::new();
+    let mut default = None;
+    for line in limits.lines().map(str::trim) {
+        if let Some((_, rest)) = line.split_once("Default ") {
+            default = Some(number(rest.trim_end_matches('.').trim_end_matches(" ms")));
+        } else if let Some(field) = line.strip_prefix("pub ") {
+            let name = field.split(':').next().expect("a field");
+            documented.insert(
+                name.to_owned(),
+                default.take().expect("a documented default"),
+            );
+        }
+    }
+    assert_eq!(documented, code, "the field docs of Limits");
 }

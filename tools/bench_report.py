@@ -126,6 +126,24 @@ def pair_section(criterion, group, parameters, name, unit_name):
     return table(header, rows)
 
 
+def ratio_range(criterion, group, parameters, name):
+    """One sentence with the smallest and largest baseline ÷ library ratio of a group, so that
+    prose can point to it instead of copying numbers that the next run changes."""
+    pairs = [
+        (estimate(criterion, group, BASELINE, p), estimate(criterion, group, LIBRARY, p))
+        for p in parameters
+    ]
+    ratios = sorted(
+        (base[0] / lib[0], ratio(base, lib)) for base, lib in pairs if base and lib
+    )
+    if not ratios:
+        return "No ratio: the benchmarks did not run."
+    return (
+        f"Baseline ÷ library over {name} = {count(parameters[0])} … {count(parameters[-1])}: "
+        f"{ratios[0][1]} to {ratios[-1][1]}."
+    )
+
+
 def phase_section(criterion):
     """The cycle's three parts timed one by one: per scene, library against baseline."""
     rows = []
@@ -229,6 +247,8 @@ def generated(criterion):
         "### `set_commands` batch of K commands, 10 000 live scenes (`commands/K`)",
         "",
         pair_section(criterion, "commands", BATCHES, "K commands", "command"),
+        "",
+        ratio_range(criterion, "commands", BATCHES, "K"),
         "",
         "### Policy change of a module with N scenes (`policy/N`)",
         "",

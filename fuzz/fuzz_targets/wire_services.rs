@@ -1,12 +1,14 @@
 //! Hostile bytes into the AD API services, one call after another on one state: each
 //! newline-separated chunk is a call, its first byte choosing `set_commands`, `set_policies`,
 //! `get_policies`, or a core input in its serde form. No call may panic, every answer must be
-//! JSON, and the state must keep its invariants whatever was asked.
+//! JSON, a refused call or input (and `get_policies`, and an empty batch) must leave the state
+//! unchanged, and the state must keep its invariants whatever was asked.
 #![no_main]
 
 use cooperation::wire::Service;
 use cooperation::{
-    Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, SceneId, State,
+    Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, ResponseStatus, SceneId,
+    State,
 };
 use libfuzzer_sys::fuzz_target;
 
@@ -59,11 +61,23 @@ fuzz_target!(|data: &[u8]| {
             }
             service => {
                 let service = Service::ALL[usize::from(service)];
+                let before = state.clone();
                 let response = service.call_json(&mut state, body);
-                assert!(
-                    serde_json::from_slice::<serde_json::Value>(&response).is_ok(),
-                    "the answer is not JSON"
-                );
+                let Ok(answer) = serde_json::from_slice::<serde_json::Value>(&response) else {
+                    panic!("the answer is not JSON")
+                };
+                // A refused call, an empty batch (success with NO_EFFECT) and every
+                // get_policies call leave the state exactly as it was.
+                let status = &answer["status"];
+                let changes_nothing = service == Service::GetPolicies
+                    || status["success"] == false
+                    || status["code"] == ResponseStatus::NO_EFFECT;
+                if changes_nothing {
+                    assert_eq!(
+                        state, before,
+                        "{service:?} answered {status} but changed the state"
+                    );
+                }
             }
         }
         assert_eq!(state.check_invariants(), Ok(()));

@@ -47,14 +47,7 @@ pub fn register(id: SceneId, module: Module, decision: Decision) -> Input {
 }
 
 pub fn update(id: SceneId, module: Module, phase: Phase, decision: Decision) -> Input {
-    Input::Update {
-        id,
-        module,
-        phase,
-        decision,
-        requested: false,
-        geometry: Geometry::velocity(5.0),
-    }
+    update_with(id, module, phase, decision, false, Geometry::velocity(5.0))
 }
 
 /// `update`, with the owner asking for an operator decision or not (`[COOP-REQUESTED.1]`).
@@ -65,23 +58,32 @@ pub fn update_requested(
     decision: Decision,
     requested: bool,
 ) -> Input {
-    match update(id, module, phase, decision) {
-        Input::Update {
-            id,
-            module,
-            phase,
-            decision,
-            geometry,
-            ..
-        } => Input::Update {
-            id,
-            module,
-            phase,
-            decision,
-            requested,
-            geometry,
-        },
-        other => other,
+    update_with(
+        id,
+        module,
+        phase,
+        decision,
+        requested,
+        Geometry::velocity(5.0),
+    )
+}
+
+/// An owner's update with every field given.
+pub fn update_with(
+    id: SceneId,
+    module: Module,
+    phase: Phase,
+    decision: Decision,
+    requested: bool,
+    geometry: Geometry,
+) -> Input {
+    Input::Update {
+        id,
+        module,
+        phase,
+        decision,
+        requested,
+        geometry,
     }
 }
 
@@ -139,6 +141,28 @@ pub fn with_scenes() -> State {
     state
 }
 
+/// A state with one live lane-change scene, 1: its module's policy set by a policy batch, its
+/// module decision by its registration, its operator decision by a command.
+pub fn one_scene(policy: Policy, module_decision: Decision, operator: OperatorDecision) -> State {
+    let mut state = state();
+    fires(
+        &mut state,
+        policies(&[(LANE_CHANGE, policy)]),
+        Rule::PolicySet,
+    );
+    fires(
+        &mut state,
+        register(id(1), LANE_CHANGE, module_decision),
+        Rule::RegisterNew,
+    );
+    fires(
+        &mut state,
+        commands(&[(id(1), operator)]),
+        Rule::CommandApply,
+    );
+    state
+}
+
 /// Moves a live scene through `phases` by its owner's updates (module decision activate),
 /// asserting each is an accepted, non-terminal update.
 pub fn walk(state: &mut State, id: SceneId, module: Module, phases: &[Phase]) {
@@ -192,4 +216,55 @@ pub fn rtc_commands(list: &[(SceneId, u8)]) -> rtc::CooperateCommandsRequest {
             })
             .collect(),
     }
+}
+
+/// The order of distances in the factor lists, written from the words of `[COOP-OUT-ORDER.1]`
+/// rather than with the library's comparison: ascending; `-0.0` before `0.0`; every NaN, of
+/// either sign, after every number (`inf` included); positive NaNs before negative ones; NaNs
+/// of one sign in IEEE 754 total order (for negative NaNs, the larger payload first).
+pub fn spec_distance_order(a: f32, b: f32) -> std::cmp::Ordering {
+    use std::cmp::Ordering;
+    match (a.is_nan(), b.is_nan()) {
+        (false, false) => a
+            .partial_cmp(&b)
+            .unwrap_or(Ordering::Equal)
+            .then_with(|| a.is_sign_positive().cmp(&b.is_sign_positive())),
+        (false, true) => Ordering::Less,
+        (true, false) => Ordering::Greater,
+        (true, true) => {
+            let payload = |x: f32| x.to_bits() & 0x7fff_ffff;
+            let by_payload = if a.is_sign_negative() {
+                payload(b).cmp(&payload(a))
+            } else {
+                payload(a).cmp(&payload(b))
+            };
+            a.is_sign_negative()
+                .cmp(&b.is_sign_negative())
+                .then(by_payload)
+        }
+    }
+}
+
+/// Whether `a` is listed before `b` in a factor list (`[COOP-OUT-ORDER.1]`): by distance in
+/// [`spec_distance_order`], then by identifier.
+pub fn listed_before(a: (Distance, SceneId), b: (Distance, SceneId)) -> bool {
+    spec_distance_order(a.0 .0, b.0 .0)
+        .then(a.1.cmp(&b.1))
+        .is_lt()
+}
+
+/// Registers scene `n` through the RTC interface `name`: safe, waiting, its section starting
+/// at `start` and ending at 90 m.
+pub fn rtc_register_at(rtc: &mut rtc::Rtc, state: &mut State, name: &str, n: u128, start: f32) {
+    rtc.interface(state, name)
+        .expect("bound")
+        .update_cooperate_status(
+            id(n),
+            true,
+            rtc::State::WAITING_FOR_EXECUTION,
+            start,
+            90.0,
+            false,
+        )
+        .expect("registers");
 }
