@@ -65,7 +65,7 @@ pub fn lifecycle() -> String {
                 requested: false,
                 geometry,
             };
-            match state.after(&update).map(|(_, t)| t.rule) {
+            match state.clone().apply(&update).map(|t| t.rule) {
                 Ok(Rule::OwnerUpdate) => {
                     let _ = writeln!(out, "    {from} --> {to}: Update");
                 }
@@ -79,13 +79,13 @@ pub fn lifecycle() -> String {
             id: ID,
             module: MODULE,
         };
-        if state.after(&remove).map(|(_, t)| t.rule) == Ok(Rule::OwnerRemove) {
+        if state.clone().apply(&remove).map(|t| t.rule) == Ok(Rule::OwnerRemove) {
             let _ = writeln!(out, "    {from} --> removed: Remove (retires)");
         }
         let late = Input::Tick {
             elapsed_ms: u64::MAX,
         };
-        if state.after(&late).map(|(_, t)| t.rule) == Ok(Rule::TimeExpire) {
+        if state.clone().apply(&late).map(|t| t.rule) == Ok(Rule::TimeExpire) {
             let _ = writeln!(out, "    {from} --> expired: Tick past the TTL (retires)");
         }
     }

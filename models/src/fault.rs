@@ -213,6 +213,22 @@ impl Fault {
     }
 }
 
+/// The transition every model makes: `State::apply` on a copy of `core`, as a consumer calls
+/// it, or, in a sensitivity test, the faulty wrapper around it. Gives the copy as the input
+/// left it, and the result.
+pub fn transition(
+    fault: Option<Fault>,
+    core: &State,
+    input: &Input,
+) -> (State, Result<Transition, Rejection>) {
+    let mut next = core.clone();
+    let result = match fault {
+        None => next.apply(input),
+        Some(fault) => fault.apply(&mut next, input),
+    };
+    (next, result)
+}
+
 /// `state` serialized, edited and read back (and so checked against every invariant).
 fn edit(state: &State, change: impl FnOnce(&mut Value)) -> Option<State> {
     let mut raw = serde_json::to_value(state).ok()?;

@@ -12,9 +12,13 @@
     clippy::indexing_slicing
 )]
 
+pub mod budget;
+pub mod describe;
 pub mod diagrams;
 pub mod fault;
+pub mod ids;
 pub mod network;
+pub mod rtc;
 pub mod run;
 pub mod sequential;
 pub mod spec;
@@ -24,6 +28,8 @@ pub mod trivial;
 pub mod witnesses;
 
 pub use fault::Fault;
+pub use ids::ModelError;
 pub use network::{NetBounds, NetworkModel};
+pub use rtc::{RtcBounds, RtcFault, RtcModel};
 pub use sequential::{Bounds, SequentialModel, Step};
 pub use trace::Trace;

@@ -4,6 +4,8 @@
 //! cooperation-models check   [--model sequential|network] [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
+//!                            [--keep-going] [--memory-gib G] [--max-states N]
+//!                            [--table adaptive|hashed]
 //! cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
 //! cooperation-models replay  FILE
@@ -20,12 +22,13 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use cooperation_models::network::{COMMANDS_IN_FLIGHT, OPERATORS, STATUSES_IN_FLIGHT};
-use cooperation_models::run::{check_for, Settings, Strategy};
-use cooperation_models::trivial;
+use cooperation::TableLayout;
+use cooperation_models::budget::GIB;
+use cooperation_models::run::{Settings, Stop, Strategy};
 
+mod checks;
 mod reach;
-use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace};
+use cooperation_models::{Bounds, Fault, RtcFault, Trace};
 use stateright::Model;
 
 #[global_allocator]
@@ -35,7 +38,8 @@ const USAGE: &str = "usage:
   cooperation-models check   [--model sequential|network] [--modules M] [--scenes N]
                              [--live L] [--retired R] [--threads T] [--strategy dfs|bfs]
                              [--no-symmetry] [--fault NAME] [--out DIR]
-                             [--timeout SECONDS] [--summary]
+                             [--timeout SECONDS] [--summary] [--keep-going]
+                             [--memory-gib G] [--max-states N] [--table adaptive|hashed]
   cooperation-models check   --model trivial [--threads T] [--bytes B]
   cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
@@ -47,26 +51,33 @@ const USAGE: &str = "usage:
 defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired one remembered,
 2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
 apply, that is when fewer retired identifiers are remembered than there are identifiers),
-counterexamples saved under target/counterexamples. Faults (sensitivity tests): ";
+counterexamples saved under target/counterexamples. --table hashed lays every state's scenes
+out in the hashed index from the first scene, under a colliding hash (same counts). The check stops at the first violated
+`always` property (--keep-going collects every violation), and stops incomplete, with a
+report and exit status 1, when the process reaches 16 GiB resident (--memory-gib) or 400
+million distinct states (--max-states), or the time limit. Exit status: 0 every property
+satisfied and the search complete, 1 otherwise, 2 bad usage. Faults (sensitivity tests): ";
 
 /// Which model to check.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Which {
+pub(crate) enum Which {
     Sequential,
     Network,
+    Rtc,
     Trivial,
 }
 
-struct Options {
-    which: Which,
-    bounds: Bounds,
-    settings: Settings,
-    fault: Option<Fault>,
-    out: PathBuf,
-    address: String,
-    timeout: Option<std::time::Duration>,
-    summary: bool,
-    bytes: usize,
+pub(crate) struct Options {
+    pub(crate) which: Which,
+    pub(crate) bounds: Bounds,
+    pub(crate) settings: Settings,
+    pub(crate) fault: Option<String>,
+    pub(crate) out: PathBuf,
+    pub(crate) address: String,
+    pub(crate) stop: Stop,
+    pub(crate) table: TableLayout,
+    pub(crate) summary: bool,
+    pub(crate) bytes: usize,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -82,7 +93,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut out = PathBuf::from("target/counterexamples");
     let mut address = "127.0.0.1:3000".to_owned();
     let mut which = Which::Sequential;
-    let mut timeout = None;
+    let mut stop = Stop::first_violation();
+    let mut table = TableLayout::Adaptive;
     let mut summary = false;
     let mut bytes = reach::TRIVIAL.bytes;
     let mut rest = args.iter();
@@ -93,6 +105,10 @@ fn parse(args: &[String]) -> Result<Options, String> {
         }
         if flag == "--summary" {
             summary = true;
+            continue;
+        }
+        if flag == "--keep-going" {
+            stop.keep_going = true;
             continue;
         }
         let value = rest.next().ok_or_else(|| format!("{flag} needs a value"))?;
@@ -115,22 +131,36 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 });
             }
             "--fault" => {
-                let found = Fault::ALL.into_iter().find(|f| format!("{f:?}") == *value);
-                fault = Some(found.ok_or_else(|| format!("no fault is named {value:?}"))?);
+                let known = Fault::ALL.iter().map(|f| format!("{f:?}"));
+                let mut known = known.chain(RtcFault::ALL.iter().map(|f| format!("{f:?}")));
+                if !known.any(|name| name == *value) {
+                    return Err(format!("no fault is named {value:?}"));
+                }
+                fault = Some(value.clone());
             }
             "--out" => out = PathBuf::from(value),
             "--bytes" => bytes = number()?,
             "--timeout" => {
-                timeout = Some(std::time::Duration::from_secs(number()? as u64));
+                stop.timeout = Some(std::time::Duration::from_secs(number()? as u64));
+            }
+            "--memory-gib" => stop.budget.memory_bytes = (number()? as u64).saturating_mul(GIB),
+            "--max-states" => stop.budget.states = number()?,
+            "--table" => {
+                table = match value.as_str() {
+                    "adaptive" => TableLayout::Adaptive,
+                    "hashed" => TableLayout::Colliding,
+                    other => return Err(format!("--table is adaptive or hashed, not {other:?}")),
+                };
             }
             "--model" => {
                 which = match value.as_str() {
                     "sequential" => Which::Sequential,
                     "network" => Which::Network,
                     "trivial" => Which::Trivial,
+                    "rtc" => Which::Rtc,
                     other => {
                         return Err(format!(
-                            "--model is sequential, network or trivial, not {other:?}"
+                            "--model is sequential, network, rtc or trivial, not {other:?}"
                         ))
                     }
                 }
@@ -166,200 +196,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
         fault,
         out,
         address,
-        timeout,
+        stop,
+        table,
         summary,
         bytes,
     })
-}
-
-fn model(options: &Options) -> Result<SequentialModel, String> {
-    let model = SequentialModel::new(options.bounds).map_err(|e| e.to_string())?;
-    Ok(match options.fault {
-        Some(fault) => model.with_fault(fault),
-        None => model,
-    })
-}
-
-fn run_check(options: &Options) -> Result<bool, String> {
-    match options.which {
-        Which::Network => return run_network(options),
-        Which::Trivial => return run_trivial(options),
-        Which::Sequential => {}
-    }
-    let model = model(options)?;
-    let Bounds {
-        modules,
-        scenes,
-        live,
-        retired,
-    } = options.bounds;
-    println!(
-        "sequential model: {modules} modules, {scenes} scene identifiers, at most {live} live, \
-         {retired} retired remembered; {} inputs in every state",
-        model.alphabet().len()
-    );
-    let Settings {
-        threads,
-        strategy,
-        symmetry,
-    } = options.settings;
-    println!(
-        "checking to completion: {strategy:?}, {threads} thread(s), symmetry {}{}",
-        if symmetry { "on" } else { "off" },
-        options
-            .fault
-            .map_or(String::new(), |f| format!(", injected fault {f:?}"))
-    );
-    let report = check_for(
-        &model,
-        options.settings,
-        options.timeout,
-        &mut std::io::stderr(),
-    );
-    summarise(
-        options,
-        report.unique,
-        report.generated,
-        report.elapsed,
-        report.complete,
-    );
-    present(&report, &options.out)
-}
-
-/// With `--summary`, one JSON line for `reach`: counts, time, completion and peak memory.
-fn summarise(
-    options: &Options,
-    unique: usize,
-    generated: usize,
-    elapsed: std::time::Duration,
-    complete: bool,
-) {
-    if options.summary {
-        let summary = reach::Summary {
-            unique,
-            generated,
-            seconds: elapsed.as_secs_f64(),
-            complete,
-            peak_rss_bytes: reach::peak_rss_bytes(),
-        };
-        println!("summary: {}", serde_json::json!(summary));
-    }
-}
-
-fn run_trivial(options: &Options) -> Result<bool, String> {
-    let model = trivial::TrivialModel {
-        bytes: options.bytes,
-        ..reach::TRIVIAL
-    };
-    println!(
-        "trivial model: {} counters of {} values in a {}-byte state ({} states), breadth first, \
-         {} thread(s)",
-        model.digits,
-        model.base,
-        model.bytes,
-        model.states(),
-        options.settings.threads
-    );
-    let result = trivial::run(model, options.settings.threads);
-    println!(
-        "{} unique states, {} generated, {:.1} s",
-        result.unique,
-        result.generated,
-        result.elapsed.as_secs_f64()
-    );
-    summarise(
-        options,
-        result.unique,
-        result.generated,
-        result.elapsed,
-        result.complete,
-    );
-    Ok(result.complete && result.unique as u128 == model.states())
-}
-
-fn run_network(options: &Options) -> Result<bool, String> {
-    let bounds = NetBounds {
-        scenes: options.bounds.scenes,
-    };
-    let model = NetworkModel::new(bounds).map_err(|e| e.to_string())?;
-    let model = match options.fault {
-        Some(fault) => model.with_fault(fault),
-        None => model,
-    };
-    println!(
-        "network model: the planner and {OPERATORS} operators, {} scene identifiers, at most \
-         {STATUSES_IN_FLIGHT} status message per operator and {COMMANDS_IN_FLIGHT} commands in flight, \
-         delivered in any order, duplicated or lost",
-        bounds.scenes
-    );
-    let settings = Settings {
-        strategy: Strategy::Bfs,
-        symmetry: false,
-        ..options.settings
-    };
-    println!(
-        "checking to completion: {:?}, {} thread(s), symmetry off{}",
-        settings.strategy,
-        settings.threads,
-        options
-            .fault
-            .map_or(String::new(), |f| format!(", injected fault {f:?}"))
-    );
-    let report = check_for(&model, settings, options.timeout, &mut std::io::stderr());
-    summarise(
-        options,
-        report.unique,
-        report.generated,
-        report.elapsed,
-        report.complete,
-    );
-    present(&report, &options.out)
-}
-
-fn present(
-    report: &cooperation_models::run::Report,
-    out: &std::path::Path,
-) -> Result<bool, String> {
-    println!(
-        "\n{} unique states, {} generated, depth {}, {:.1} s\n",
-        report.unique,
-        report.generated,
-        report.depth,
-        report.elapsed.as_secs_f64()
-    );
-    print!("{}", report.table());
-    let held = report.outcomes.iter().filter(|o| o.holds).count();
-    println!("\n{held} of {} properties satisfied", report.outcomes.len());
-    for outcome in &report.outcomes {
-        let Some(trace) = &outcome.counterexample else {
-            continue;
-        };
-        println!("\nshortest counterexample, {} steps:", trace.len());
-        print!("{}", trace.render().map_err(|e| e.to_string())?);
-        let file = save(out, trace)?;
-        let diagram = trace.sequence_diagram().map_err(|e| e.to_string())?;
-        let mermaid = file.with_extension("mmd");
-        std::fs::write(&mermaid, diagram).map_err(|e| format!("{}: {e}", mermaid.display()))?;
-        println!(
-            "saved as {} (sequence diagram: {})",
-            file.display(),
-            mermaid.display()
-        );
-    }
-    Ok(report.passed())
-}
-
-fn save(dir: &std::path::Path, trace: &Trace) -> Result<PathBuf, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let name: String = trace
-        .property()
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
-        .collect();
-    let file = dir.join(format!("{}.json", name.trim_matches('-')));
-    let text = serde_json::to_string_pretty(trace).map_err(|e| e.to_string())?;
-    std::fs::write(&file, text + "\n").map_err(|e| format!("{}: {e}", file.display()))?;
-    Ok(file)
 }
 
 fn replay(file: &str) -> Result<bool, String> {
@@ -436,7 +277,7 @@ fn witnesses(args: &[String]) -> Result<bool, String> {
 }
 
 fn explore(options: &Options) -> Result<bool, String> {
-    let model = model(options)?;
+    let model = checks::model(options)?;
     println!(
         "serving stateright's Explorer on http://{} (Ctrl-C to stop)",
         options.address
@@ -449,9 +290,14 @@ fn explore(options: &Options) -> Result<bool, String> {
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let faults: Vec<String> = Fault::ALL.iter().map(|f| format!("{f:?}")).collect();
-    let usage = format!("{USAGE}{}", faults.join(", "));
+    let rtc: Vec<String> = RtcFault::ALL.iter().map(|f| format!("{f:?}")).collect();
+    let usage = format!(
+        "{USAGE}{}; with --model rtc: {}",
+        faults.join(", "),
+        rtc.join(", ")
+    );
     let result = match args.split_first() {
-        Some((command, rest)) if command == "check" => parse(rest).and_then(|o| run_check(&o)),
+        Some((command, rest)) if command == "check" => parse(rest).and_then(|o| checks::run(&o)),
         Some((command, rest)) if command == "reach" => reach::run(rest),
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
         Some((command, [file])) if command == "replay" => replay(file),

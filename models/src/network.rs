@@ -2,7 +2,7 @@
 //! command messages in flight that are delayed, reordered, duplicated and lost.
 //!
 //! The planner holds the library's [`State`] and applies owner inputs and delivered commands
-//! through [`State::after`] (or a [`Fault`] wrapper around `apply`); the operators only hold
+//! through [`State::apply`] (or a [`Fault`] wrapper around it); the operators only hold
 //! what they were last told. Which messages exist and when they can be sent, delivered,
 //! duplicated or lost is the environment, modelled here; what a message does to the planner is
 //! the library's, and nothing of it is restated.
@@ -16,8 +16,9 @@ use cooperation::{
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property, Representative};
 
-use crate::sequential::{index, ModelError, MAX_SCENES};
-use crate::trace::{describe, short};
+use crate::budget::Halt;
+use crate::describe::{describe, short};
+use crate::ids::{index, ModelError, MAX_SCENES};
 use crate::Fault;
 
 /// How many operators act at once.
@@ -133,6 +134,7 @@ pub struct NetworkModel {
     bounds: NetBounds,
     fault: Option<Fault>,
     focus: Option<&'static str>,
+    halt: Halt,
     config: Config,
     ids: Vec<SceneId>,
     owner: Vec<Input>,
@@ -188,6 +190,7 @@ impl NetworkModel {
             bounds,
             fault: None,
             focus: None,
+            halt: Halt::new(),
             config,
             ids,
             owner,
@@ -208,6 +211,13 @@ impl NetworkModel {
         self
     }
 
+    /// The same model, stopped by `halt` (see [`crate::budget`]).
+    #[must_use]
+    pub fn with_halt(mut self, halt: Halt) -> Self {
+        self.halt = halt;
+        self
+    }
+
     /// The bounds.
     #[must_use]
     pub const fn bounds(&self) -> NetBounds {
@@ -220,19 +230,9 @@ impl NetworkModel {
         self.fault
     }
 
-    /// The planner's transition: `State::after`, or the faulty wrapper around `apply`.
+    /// The planner's transition: `State::apply` on a copy, or the faulty wrapper around it.
     fn transition(&self, core: &State, input: &Input) -> (State, Result<Transition, Rejection>) {
-        match self.fault {
-            None => match core.after(input) {
-                Ok((next, transition)) => (next, Ok(transition)),
-                Err(rejection) => (core.clone(), Err(rejection)),
-            },
-            Some(fault) => {
-                let mut next = core.clone();
-                let result = fault.apply(&mut next, input);
-                (next, result)
-            }
-        }
+        crate::fault::transition(self.fault, core, input)
     }
 
     /// The initial state: nothing registered, nothing sent.
@@ -376,6 +376,9 @@ impl Model for NetworkModel {
     }
 
     fn actions(&self, step: &NetStep, actions: &mut Vec<NetAction>) {
+        if self.halt.is_set() {
+            return;
+        }
         actions.extend((0..self.owner.len()).map(NetAction::Owner));
         let room = step.commands.iter().map(Vec::len).sum::<usize>() < COMMANDS_IN_FLIGHT;
         for k in 0..OPERATORS {
@@ -409,6 +412,10 @@ impl Model for NetworkModel {
                 }
             }
         }
+    }
+
+    fn within_boundary(&self, _: &NetStep) -> bool {
+        !self.halt.is_set()
     }
 
     fn next_state(&self, from: &NetStep, action: NetAction) -> Option<NetStep> {

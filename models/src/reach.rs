@@ -27,14 +27,6 @@ pub(crate) struct Summary {
     pub(crate) peak_rss_bytes: Option<u64>,
 }
 
-/// This process's peak resident memory (`VmHWM`), where the system tells it.
-pub(crate) fn peak_rss_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
-}
-
 /// One row of the table.
 struct Config {
     model: &'static str,

@@ -3,11 +3,14 @@
 
 use core::fmt::Write as _;
 
-use cooperation::{Input, Rule, SceneId, State};
+use cooperation::{Input, Rule, SceneId, State, TableLayout};
 use serde::{Deserialize, Serialize};
 
+use crate::describe::{describe, short};
+use crate::ids::ModelError;
 use crate::network::{NetAction, NetBounds, NetworkModel};
-use crate::sequential::{Bounds, ModelError, SequentialModel};
+use crate::rtc::{Call, RtcBounds, RtcFault, RtcModel};
+use crate::sequential::{Bounds, SequentialModel};
 use crate::Fault;
 
 /// A path found by the checker, for one model and one property: replaying its actions from the
@@ -19,6 +22,9 @@ pub enum Trace {
     Sequential {
         /// The model's bounds.
         bounds: Bounds,
+        /// The layout of the core's scene table (speed only; `adaptive` when absent).
+        #[serde(default, skip_serializing_if = "is_adaptive")]
+        table: TableLayout,
         /// The injected fault, if the run was a sensitivity test.
         fault: Option<Fault>,
         /// The property the trace breaks (or, for a `sometimes` property, reaches).
@@ -36,6 +42,17 @@ pub enum Trace {
         property: String,
         /// The actions (owner inputs, messages sent, delivered, duplicated, lost), in order.
         actions: Vec<NetAction>,
+    },
+    /// A path of the RTC adapter model.
+    Rtc {
+        /// The model's bounds.
+        bounds: RtcBounds,
+        /// The injected fault, if the run was a sensitivity test.
+        fault: Option<RtcFault>,
+        /// The property the trace breaks (or, for a `sometimes` property, reaches).
+        property: String,
+        /// The adapter calls, in order.
+        calls: Vec<Call>,
     },
 }
 
@@ -64,7 +81,9 @@ impl Trace {
     #[must_use]
     pub fn property(&self) -> &str {
         match self {
-            Self::Sequential { property, .. } | Self::Network { property, .. } => property,
+            Self::Sequential { property, .. }
+            | Self::Network { property, .. }
+            | Self::Rtc { property, .. } => property,
         }
     }
 
@@ -74,6 +93,7 @@ impl Trace {
         match self {
             Self::Sequential { inputs, .. } => inputs.len(),
             Self::Network { actions, .. } => actions.len(),
+            Self::Rtc { calls, .. } => calls.len(),
         }
     }
 
@@ -89,6 +109,7 @@ impl Trace {
         let mut trace = self.clone();
         match &mut trace {
             Self::Sequential { fault, .. } | Self::Network { fault, .. } => *fault = None,
+            Self::Rtc { fault, .. } => *fault = None,
         }
         trace
     }
@@ -101,11 +122,12 @@ impl Trace {
         match self {
             Self::Sequential {
                 bounds,
+                table,
                 fault,
                 property,
                 inputs,
             } => {
-                let model = sequential(*bounds, *fault)?;
+                let model = sequential(*bounds, *table, *fault)?;
                 let steps = model.replay(inputs).map_err(ReplayError::Model)?;
                 holds_at(&model, property, steps.last())
             }
@@ -117,6 +139,16 @@ impl Trace {
             } => {
                 let model = network(*bounds, *fault)?;
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
+                holds_at(&model, property, steps.last())
+            }
+            Self::Rtc {
+                bounds,
+                fault,
+                property,
+                calls,
+            } => {
+                let model = rtc(*bounds, *fault)?;
+                let steps = model.replay(calls).map_err(ReplayError::Model)?;
                 holds_at(&model, property, steps.last())
             }
         }
@@ -132,11 +164,12 @@ impl Trace {
         match self {
             Self::Sequential {
                 bounds,
+                table,
                 fault,
                 inputs,
                 ..
             } => {
-                let model = sequential(*bounds, *fault)?;
+                let model = sequential(*bounds, *table, *fault)?;
                 let steps = model.replay(inputs).map_err(ReplayError::Model)?;
                 for (n, (input, step)) in inputs.iter().zip(steps.iter().skip(1)).enumerate() {
                     let _ = writeln!(out, "{:>3}. {}", n + 1, describe(input));
@@ -167,6 +200,29 @@ impl Trace {
                     }
                 }
             }
+            Self::Rtc {
+                bounds,
+                fault,
+                calls,
+                ..
+            } => {
+                let model = rtc(*bounds, *fault)?;
+                let steps = model.replay(calls).map_err(ReplayError::Model)?;
+                for (n, (call, step)) in calls.iter().zip(steps.iter().skip(1)).enumerate() {
+                    let _ = writeln!(
+                        out,
+                        "{:>3}. {}",
+                        n + 1,
+                        crate::rtc::describe(call, model.names())
+                    );
+                    if let Some(outcome) = &step.last {
+                        let _ = writeln!(out, "     {}", crate::rtc::answer(outcome));
+                    }
+                    for line in model.describe_step(step) {
+                        let _ = writeln!(out, "     {line}");
+                    }
+                }
+            }
         }
         Ok(out)
     }
@@ -184,13 +240,14 @@ impl Trace {
         match self {
             Self::Sequential {
                 bounds,
+                table,
                 fault,
                 inputs,
                 ..
             } => {
                 out +=
                     "    participant Module\n    participant Planner\n    participant Operator\n";
-                let model = sequential(*bounds, *fault)?;
+                let model = sequential(*bounds, *table, *fault)?;
                 let steps = model.replay(inputs).map_err(ReplayError::Model)?;
                 for (input, step) in inputs.iter().zip(steps.iter().skip(1)) {
                     let from = match input {
@@ -236,6 +293,34 @@ impl Trace {
                             step.core.merged_decision(id)
                         });
                     }
+                }
+            }
+            Self::Rtc {
+                bounds,
+                fault,
+                calls,
+                ..
+            } => {
+                out +=
+                    "    participant Module\n    participant Adapter\n    participant Operator\n";
+                let model = rtc(*bounds, *fault)?;
+                let steps = model.replay(calls).map_err(ReplayError::Model)?;
+                for (call, step) in calls.iter().zip(steps.iter().skip(1)) {
+                    let from = match call {
+                        Call::Update { .. } | Call::Remove { .. } | Call::Clear { .. } => "Module",
+                        Call::Tick => "Adapter",
+                        _ => "Operator",
+                    };
+                    let said = crate::rtc::describe(call, model.names());
+                    let _ = writeln!(out, "    {from}->>Adapter: {said}");
+                    let answer = step
+                        .last
+                        .as_ref()
+                        .map(crate::rtc::answer)
+                        .unwrap_or_default();
+                    // Mermaid ends a statement at `;`, so none may appear in a note.
+                    let scenes = model.describe_step(step).join(" / ").replace(';', ",");
+                    let _ = writeln!(out, "    Note over Adapter: {answer} — {scenes}");
                 }
             }
         }
@@ -301,8 +386,18 @@ fn note(
     let _ = writeln!(out, "    Note over Planner: {verdict} — {scenes}");
 }
 
-fn sequential(bounds: Bounds, fault: Option<Fault>) -> Result<SequentialModel, ReplayError> {
-    let model = SequentialModel::new(bounds).map_err(ReplayError::Model)?;
+fn is_adaptive(table: &TableLayout) -> bool {
+    *table == TableLayout::Adaptive
+}
+
+fn sequential(
+    bounds: Bounds,
+    table: TableLayout,
+    fault: Option<Fault>,
+) -> Result<SequentialModel, ReplayError> {
+    let model = SequentialModel::new(bounds)
+        .map_err(ReplayError::Model)?
+        .with_table(table);
     Ok(match fault {
         Some(fault) => model.with_fault(fault),
         None => model,
@@ -311,6 +406,14 @@ fn sequential(bounds: Bounds, fault: Option<Fault>) -> Result<SequentialModel, R
 
 fn network(bounds: NetBounds, fault: Option<Fault>) -> Result<NetworkModel, ReplayError> {
     let model = NetworkModel::new(bounds).map_err(ReplayError::Model)?;
+    Ok(match fault {
+        Some(fault) => model.with_fault(fault),
+        None => model,
+    })
+}
+
+fn rtc(bounds: RtcBounds, fault: Option<RtcFault>) -> Result<RtcModel, ReplayError> {
+    let model = RtcModel::new(bounds).map_err(ReplayError::Model)?;
     Ok(match fault {
         Some(fault) => model.with_fault(fault),
         None => model,
@@ -350,71 +453,5 @@ fn scenes(
     }
     if !any {
         let _ = writeln!(out, "     no live scene");
-    }
-}
-
-/// A scene identifier as the model's small number.
-#[must_use]
-pub fn short(id: SceneId) -> String {
-    let value = id.to_u128();
-    format!("#{value}")
-}
-
-/// How a trace says that an owner asks for an operator decision.
-const fn asks(requested: bool) -> &'static str {
-    if requested {
-        ", asks the operator"
-    } else {
-        ""
-    }
-}
-
-/// One input in words.
-#[must_use]
-pub fn describe(input: &Input) -> String {
-    match input {
-        Input::Register {
-            id,
-            module,
-            decision,
-            requested,
-            geometry,
-        } => {
-            format!(
-                "owner registers {} for {module} ({decision}{}, {:?})",
-                short(*id),
-                asks(*requested),
-                geometry.kind()
-            )
-        }
-        Input::Update {
-            id,
-            module,
-            phase,
-            decision,
-            requested,
-            geometry,
-        } => format!(
-            "owner of {module} updates {}: {phase}, {decision}{} ({:?})",
-            short(*id),
-            asks(*requested),
-            geometry.kind()
-        ),
-        Input::Remove { id, module } => format!("owner of {module} removes {}", short(*id)),
-        Input::SetCommands { commands } => {
-            let list: Vec<String> = commands
-                .iter()
-                .map(|c| format!("{} {}", short(c.id), c.decision))
-                .collect();
-            format!("operator set_commands [{}]", list.join(", "))
-        }
-        Input::SetPolicies { policies } => {
-            let list: Vec<String> = policies
-                .iter()
-                .map(|p| format!("{} {}", p.module, p.policy))
-                .collect();
-            format!("operator set_policies [{}]", list.join(", "))
-        }
-        Input::Tick { elapsed_ms } => format!("time passes ({elapsed_ms} tick)"),
     }
 }

@@ -20,6 +20,8 @@ pub struct Row {
     pub code: Vec<String>,
     /// Model properties named after it.
     pub properties: Vec<String>,
+    /// Whether one of them is a safety (`always`) property, not only a reachability one.
+    pub safety: bool,
     /// Tests named after it (`file::function`).
     pub tests: Vec<String>,
 }
@@ -134,6 +136,19 @@ fn place(lines: &[&str], at: usize) -> Option<String> {
     }
 }
 
+/// The tags a property's name is named after: the comma-separated tags before its first `:`
+/// or ` is reachable`, each without what follows its first space (`COOP-X.1 (network)`).
+fn names(property: &str) -> impl Iterator<Item = &str> {
+    let head = property
+        .split(':')
+        .next()
+        .unwrap_or_default()
+        .trim_end_matches(" is reachable");
+    head.split(',')
+        .filter_map(|tag| tag.split_whitespace().next())
+        .filter(|tag| tag.starts_with("COOP-"))
+}
+
 /// Every row of the matrix, from the repository at `root`.
 #[must_use]
 pub fn rows(root: &Path) -> Vec<Row> {
@@ -145,10 +160,20 @@ pub fn rows(root: &Path) -> Vec<Row> {
             .into_iter()
             .map(|(n, t)| (format!("models/{n}"), t)),
     );
-    let properties: Vec<&'static str> = crate::sequential::properties()
+    let always = |e: &stateright::Expectation| matches!(e, stateright::Expectation::Always);
+    let properties: Vec<(&'static str, bool)> = crate::sequential::properties()
         .iter()
-        .map(|p| p.name)
-        .chain(crate::network::properties().iter().map(|p| p.name))
+        .map(|p| (p.name, always(&p.expectation)))
+        .chain(
+            crate::network::properties()
+                .iter()
+                .map(|p| (p.name, always(&p.expectation))),
+        )
+        .chain(
+            crate::rtc::properties()
+                .iter()
+                .map(|p| (p.name, always(&p.expectation))),
+        )
         .collect();
     spec_tags(&spec)
         .into_iter()
@@ -170,15 +195,15 @@ pub fn rows(root: &Path) -> Vec<Row> {
                 }
             }
             let family = tag.split('-').take(2).collect::<Vec<_>>().join("-");
-            let named: Vec<String> = properties
+            let matching: Vec<&(&str, bool)> = properties
                 .iter()
-                .filter(|p| {
-                    p.starts_with(&format!("{tag}:"))
-                        || p.starts_with(&format!("{tag} "))
+                .filter(|(p, _)| {
+                    names(p).any(|named| named == tag)
                         || (family == "COOP-INV" && p.starts_with("COOP-INV-*"))
                 })
-                .map(|p| (*p).to_owned())
                 .collect();
+            let safety = matching.iter().any(|(_, always)| *always);
+            let named: Vec<String> = matching.iter().map(|(p, _)| (*p).to_owned()).collect();
             let test_name = tag.to_lowercase().replace(['-', '.'], "_");
             let tested: Vec<String> = tests
                 .iter()
@@ -194,6 +219,7 @@ pub fn rows(root: &Path) -> Vec<Row> {
                 heading,
                 code: places,
                 properties: named,
+                safety,
                 tests: tested,
             }
         })
@@ -216,6 +242,12 @@ pub fn gaps(rows: &[Row]) -> Vec<String> {
         }
         if needs_property && row.properties.is_empty() {
             gaps.push(format!("{}: no model property is named after it", row.tag));
+        } else if needs_property && !row.safety {
+            gaps.push(format!(
+                "{}: its only model properties are reachability, which take the library's word \
+                 for which rule fired",
+                row.tag
+            ));
         }
         if row.tests.is_empty() {
             gaps.push(format!("{}: no test is named after it", row.tag));

@@ -38,3 +38,23 @@ fn a_missing_property_or_test_is_a_gap() {
     let found = gaps(&rows);
     assert_eq!(found.len(), 2, "{found:?}");
 }
+
+/// A rule whose only model property is its reachability is a gap: reachability takes the
+/// library's word for which rule fired. Every rule has a safety property of its own today.
+#[test]
+fn a_rule_with_only_reachability_is_a_gap() {
+    let mut rows = rows(root());
+    assert!(rows.iter().filter(|r| r.section == 5).all(|r| r.safety));
+    let rule = rows
+        .iter_mut()
+        .find(|r: &&mut Row| r.section == 5)
+        .expect("a rule");
+    rule.properties.retain(|p| p.ends_with("is reachable"));
+    rule.safety = false;
+    let found = gaps(&rows);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0].contains("only model properties are reachability"),
+        "{found:?}"
+    );
+}

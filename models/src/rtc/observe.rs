@@ -1,0 +1,268 @@
+//! What a call said, and what the step from one state to the next did, as history for the step
+//! properties. It compares states and reads the call and its answer; it decides nothing.
+
+use cooperation::rtc::{self, CooperateResponse, Reply, RtcError};
+use cooperation::{OperatorDecision, Phase, RetireReason, SceneId, State, Transition};
+
+use super::call::{Call, Order};
+use super::step::{Answer, Broken, Interface, Kind, Outcome, Refusal, RtcStep};
+use super::RtcModel;
+
+/// What a call answered, in full, for the step properties.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Said {
+    /// The kind of call and its answer.
+    pub outcome: Outcome,
+    /// The identifiers it listed: a clear's answer, or the scenes its transitions retired.
+    pub ids: Vec<SceneId>,
+    /// A command request's wire responses.
+    pub responses: Vec<CooperateResponse>,
+    /// An auto-mode request's wire `success`.
+    pub success: Option<bool>,
+}
+
+impl Said {
+    /// A call of this kind refused with `error`.
+    #[must_use]
+    pub fn refused(kind: Kind, error: &RtcError) -> Self {
+        Self::of(kind, Answer::Refused(Refusal::of(error)))
+    }
+
+    /// A call of this kind that answered `answer`, listing nothing.
+    #[must_use]
+    pub const fn of(kind: Kind, answer: Answer) -> Self {
+        Self {
+            outcome: Outcome { kind, answer },
+            ids: Vec::new(),
+            responses: Vec::new(),
+            success: None,
+        }
+    }
+
+    /// A call answering these transitions, or its refusal.
+    #[must_use]
+    pub fn transitions(kind: Kind, result: Result<Vec<Transition>, RtcError>) -> Self {
+        match result {
+            Ok(transitions) => {
+                let rule = |n: usize| transitions.get(n).map(|t| t.rule);
+                let mut said = Self::of(kind, Answer::Accepted(rule(0), rule(1)));
+                said.ids = transitions.iter().flat_map(|t| t.retired.clone()).collect();
+                said
+            }
+            Err(error) => Self::refused(kind, &error),
+        }
+    }
+
+    /// A command service's reply.
+    #[must_use]
+    pub fn commands(kind: Kind, reply: Reply<rtc::CooperateCommandsResponse>) -> Self {
+        let mut said = Self::transitions(kind, reply.result.map(|t| vec![t]));
+        said.responses = reply.response.responses;
+        said
+    }
+
+    /// An auto-mode service's reply.
+    #[must_use]
+    pub fn auto_mode(kind: Kind, result: Result<Transition, RtcError>, success: bool) -> Self {
+        let mut said = Self::transitions(kind, result.map(|t| vec![t]));
+        said.success = Some(success);
+        said
+    }
+
+    /// Whether the call was accepted.
+    #[must_use]
+    pub const fn accepted(&self) -> bool {
+        !matches!(self.outcome.answer, Answer::Refused(_))
+    }
+}
+
+/// The decision an order carries, if its command is defined.
+fn decision(order: &Order) -> Option<OperatorDecision> {
+    match order.command {
+        rtc::Command::ACTIVATE => Some(OperatorDecision::Activate),
+        rtc::Command::DEACTIVATE => Some(OperatorDecision::Deactivate),
+        _ => None,
+    }
+}
+
+/// Whether `id` is no longer live and, if the core still remembers it, retired for `reason` (a
+/// call retiring several scenes may make the retired set forget the first of them).
+fn gone_as(core: &State, id: SceneId, reason: RetireReason) -> bool {
+    core.scene(id).is_none() && core.retirement(id).map_or(true, |r| r.reason == reason)
+}
+
+/// Whether the core remembers `id` (live or retired).
+fn remembered(core: &State, id: SceneId) -> bool {
+    core.scene(id).is_some() || core.retirement(id).is_some()
+}
+
+/// The flags the step from `from` by `call` (answering `said`) to `to` breaks, and the
+/// registrars after it.
+pub(super) fn observe(
+    model: &RtcModel,
+    from: &RtcStep,
+    call: &Call,
+    said: &Said,
+    to: &mut RtcStep,
+) {
+    let (old, new) = (&*from.core, &*to.core);
+    let mut flags = to.broken;
+    let broken = &mut flags;
+    let mut registrar = to.registrar;
+    let ids = model.ids();
+    let accepted = said.accepted();
+    let unchanged = old == new && from.rtc == to.rtc;
+    broken.set(Broken::REFUSAL_CHANGED, !accepted && !unchanged);
+
+    // Registrars: who registered each identifier the core remembers now.
+    for &id in ids {
+        let slot = crate::ids::index(id).and_then(|i| registrar.get_mut(i));
+        if let Some(slot) = slot {
+            if !remembered(new, id) {
+                *slot = None;
+            } else if !remembered(old, id) {
+                *slot = match call {
+                    Call::Update { interface, .. } => Interface::try_from(*interface).ok(),
+                    _ => None,
+                };
+            }
+        }
+        let revived = old.retirement(id).is_some() && new.scene(id).is_some();
+        broken.set(Broken::REVIVED, revived);
+        let fresh = old.scene(id).is_none() && new.scene(id).is_some();
+        let decided = new
+            .scene(id)
+            .is_some_and(|s| s.operator_decision() != OperatorDecision::Undecided);
+        broken.set(Broken::NEW_SCENE_DECIDED, fresh && decided);
+    }
+
+    // Operator decisions change only by an applied batch naming the scene.
+    let orders: &[Order] = match call {
+        Call::Commands { orders, .. } if accepted => orders,
+        _ => &[],
+    };
+    for &id in ids {
+        if let (Some(o), Some(n)) = (old.scene(id), new.scene(id)) {
+            let named = orders.iter().any(|order| order.id == id);
+            let moved = o.operator_decision() != n.operator_decision();
+            broken.set(Broken::OPERATOR_BY_OTHER, moved && !named);
+        }
+    }
+
+    // An interface's call touches only scenes registered through it. (A retirement the core
+    // forgets to make room is not a touch: the retired set forgets oldest first, whoever
+    // retired the newest.)
+    let touched = |id: &SceneId| {
+        let retired = new.retirement(*id).is_some() && old.retirement(*id) != new.retirement(*id);
+        old.scene(*id) != new.scene(*id) || retired
+    };
+    let owner = |id: SceneId| from.owner(id).or_else(|| to.owner(id));
+    if let (Some(i), false) = (call.interface(), matches!(call, Call::AutoMode { .. })) {
+        let foreign = ids
+            .iter()
+            .filter(|id| touched(id))
+            .any(|&id| owner(id).map(usize::from) != Some(i));
+        broken.set(Broken::FOREIGN_TOUCHED, foreign);
+    }
+
+    match call {
+        Call::Update {
+            interface,
+            id,
+            safe,
+            state,
+            requested,
+        } if accepted => {
+            let phase = rtc::State::new(*state).phase().ok();
+            let as_reported = match phase {
+                Some(Phase::Succeeded | Phase::Failed) => {
+                    let reason = if phase == Some(Phase::Succeeded) {
+                        RetireReason::Succeeded
+                    } else {
+                        RetireReason::Failed
+                    };
+                    gone_as(new, *id, reason)
+                }
+                Some(phase) => new.scene(*id).is_some_and(|scene| {
+                    scene.phase() == phase
+                        && (scene.module_decision() == cooperation::Decision::Activate) == *safe
+                        && scene.is_requested() == *requested
+                        && scene.age_ms() == 0
+                }),
+                None => false,
+            };
+            let routed = to.owner(*id).map(usize::from) == Some(*interface);
+            let answered = matches!(said.outcome.answer, Answer::Accepted(Some(_), _));
+            broken.set(
+                Broken::NOT_AS_REPORTED,
+                !(as_reported && routed && answered),
+            );
+        }
+        Call::Remove { id, .. } if accepted => {
+            let removed = gone_as(new, *id, RetireReason::Removed);
+            broken.set(Broken::NOT_AS_REPORTED, !removed || said.ids != [*id]);
+        }
+        Call::Clear { interface } => {
+            let own: Vec<SceneId> = ids
+                .iter()
+                .copied()
+                .filter(|&id| old.scene(id).is_some())
+                .filter(|&id| from.owner(id).map(usize::from) == Some(*interface))
+                .collect();
+            let retired = own
+                .iter()
+                .all(|&id| gone_as(new, id, RetireReason::Removed));
+            broken.set(
+                Broken::CLEAR_WRONG,
+                accepted && (said.ids != own || !retired),
+            );
+        }
+        Call::Commands { orders, .. } => {
+            let answered = said.responses.len() == orders.len()
+                && said.responses.iter().zip(orders).all(|(response, order)| {
+                    SceneId::from(response.uuid) == order.id
+                        && response.module.r#type == order.module
+                        && response.success == accepted
+                });
+            broken.set(Broken::UNANSWERED, !answered);
+            let missed = accepted
+                && orders.iter().any(|order| {
+                    new.scene(order.id)
+                        .map(cooperation::Scene::operator_decision)
+                        != decision(order)
+                });
+            broken.set(Broken::COMMAND_MISSED, missed);
+        }
+        Call::AutoMode { .. } | Call::AutoModeWithModule { .. } => {
+            broken.set(Broken::UNANSWERED, said.success != Some(accepted));
+            let scenes_kept = old.scenes().eq(new.scenes())
+                && old.retirements().eq(new.retirements())
+                && from.rtc == to.rtc;
+            broken.set(Broken::AUTO_MODE_CLOBBERED, !scenes_kept);
+            if accepted {
+                broken.set(
+                    Broken::AUTO_MODE_MISSED,
+                    !model.switched_as_asked(from, call, to),
+                );
+            }
+        }
+        Call::Tick if accepted => {
+            let expired: Vec<SceneId> = ids
+                .iter()
+                .copied()
+                .filter(|&id| old.scene(id).is_some())
+                .filter(|&id| new.scene(id).is_none())
+                .collect();
+            let as_expired = expired
+                .iter()
+                .all(|&id| gone_as(new, id, RetireReason::Expired));
+            broken.set(
+                Broken::EXPIRY_UNREPORTED,
+                said.ids != expired || !as_expired,
+            );
+        }
+        _ => {}
+    }
+    to.broken = flags;
+    to.registrar = registrar;
+}

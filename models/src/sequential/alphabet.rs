@@ -1,0 +1,159 @@
+//! The model's inputs: every input over its identifiers and modules, valid or not.
+
+use cooperation::{
+    Command, Config, Decision, Geometry, Input, Module, OperatorDecision, Phase, Policy,
+    PolicySetting, SceneId,
+};
+
+use super::STRANGER;
+
+/// Every input over the model's identifiers and modules: registrations, updates to every phase
+/// with either decision (and one of the wrong kind), removals, commands (single, duplicate,
+/// paired, empty, over the limit), policies (single, duplicate, empty, over the limit), time.
+pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
+    let modules: Vec<Module> = config.policies.keys().copied().collect();
+    let first = modules.first().copied().unwrap_or(STRANGER);
+    let velocity = Geometry::velocity(0.0);
+    let over_limit = config.limits.max_batch + 1;
+    let mut inputs = Vec::new();
+    for &id in ids {
+        for &module in modules.iter().chain([&STRANGER]) {
+            for decision in Decision::ALL {
+                inputs.push(Input::Register {
+                    id,
+                    module,
+                    decision,
+                    requested: false,
+                    geometry: velocity,
+                });
+            }
+        }
+        // An owner asking for an operator decision (`[COOP-REQUESTED.1]`): registering so, and
+        // updating so while waiting or running; every other update withdraws the request.
+        for &module in &modules {
+            inputs.push(Input::Register {
+                id,
+                module,
+                decision: Decision::Activate,
+                requested: true,
+                geometry: velocity,
+            });
+            for phase in [Phase::WaitingForExecution, Phase::Running] {
+                inputs.push(Input::Update {
+                    id,
+                    module,
+                    phase,
+                    decision: Decision::Activate,
+                    requested: true,
+                    geometry: velocity,
+                });
+            }
+        }
+        for &module in &modules {
+            for phase in Phase::ALL {
+                for decision in Decision::ALL {
+                    inputs.push(Input::Update {
+                        id,
+                        module,
+                        phase,
+                        decision,
+                        requested: false,
+                        geometry: velocity,
+                    });
+                }
+            }
+            inputs.push(Input::Remove { id, module });
+        }
+        let steering = Geometry::steering(cooperation::Direction::Left, 0.0, 1.0);
+        inputs.push(Input::Update {
+            id,
+            module: first,
+            phase: Phase::Running,
+            decision: Decision::Activate,
+            requested: false,
+            geometry: steering,
+        });
+        for decision in OperatorDecision::ALL {
+            inputs.push(Input::SetCommands {
+                commands: vec![Command { id, decision }],
+            });
+        }
+        let twice = Command {
+            id,
+            decision: OperatorDecision::Activate,
+        };
+        inputs.push(Input::SetCommands {
+            commands: vec![twice, twice],
+        });
+    }
+    for (n, &a) in ids.iter().enumerate() {
+        for &b in ids.iter().skip(n + 1) {
+            inputs.push(Input::SetCommands {
+                commands: vec![
+                    Command {
+                        id: a,
+                        decision: OperatorDecision::Activate,
+                    },
+                    Command {
+                        id: b,
+                        decision: OperatorDecision::Deactivate,
+                    },
+                ],
+            });
+        }
+    }
+    inputs.push(Input::SetCommands {
+        commands: Vec::new(),
+    });
+    if let Some(&id) = ids.first() {
+        let command = Command {
+            id,
+            decision: OperatorDecision::Autonomous,
+        };
+        inputs.push(Input::SetCommands {
+            commands: vec![command; over_limit],
+        });
+    }
+    for &module in modules.iter().chain([&STRANGER]) {
+        for policy in Policy::ALL {
+            inputs.push(Input::SetPolicies {
+                policies: vec![PolicySetting { module, policy }],
+            });
+        }
+    }
+    let setting = PolicySetting {
+        module: first,
+        policy: Policy::Required,
+    };
+    inputs.push(Input::SetPolicies {
+        policies: vec![setting, setting],
+    });
+    inputs.push(Input::SetPolicies {
+        policies: Vec::new(),
+    });
+    inputs.push(Input::SetPolicies {
+        policies: vec![setting; over_limit],
+    });
+    inputs.push(Input::Tick { elapsed_ms: 1 });
+    inputs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Bounds, SequentialModel};
+    use cooperation::Input;
+
+    #[test]
+    fn the_alphabet_is_deterministic_and_covers_every_kind_of_input() {
+        let model = SequentialModel::new(Bounds::new(2, 3)).expect("valid");
+        let again = SequentialModel::new(Bounds::new(2, 3)).expect("valid");
+        assert_eq!(model.alphabet(), again.alphabet());
+        let has = |f: fn(&Input) -> bool| model.alphabet().iter().any(f);
+        assert!(has(|i| matches!(i, Input::Register { .. })));
+        assert!(has(|i| matches!(i, Input::Update { .. })));
+        assert!(has(|i| matches!(i, Input::Remove { .. })));
+        assert!(has(|i| matches!(i, Input::SetCommands { .. })));
+        assert!(has(|i| matches!(i, Input::SetPolicies { .. })));
+        assert!(has(|i| matches!(i, Input::Tick { .. })));
+    }
+}

@@ -1,0 +1,325 @@
+//! The sequential model: one state, inputs one at a time, every interleaving of owner inputs,
+//! commands, policy changes and time over a bounded set of identifiers and modules.
+//!
+//! `next_state` calls the library's transition, [`State::apply`], on a copy of the state, as a
+//! consumer calls it, through [`SequentialModel::transition`], which is exactly that unless a
+//! [`Fault`] is injected for a sensitivity test. Then it records what it observed in history
+//! variables ([`Ghost`]): the rule that fired, and sticky flags for transition properties (a
+//! property of a step, not of a state), among them whether the step is the one the spec's rules
+//! (`crate::spec::rules`) say. A flag is only ever set when a property is violated, so in a
+//! correct run the flags add no states.
+
+use std::sync::Arc;
+
+use cooperation::{
+    Behavior, Config, Decision, Input, Limits, Module, Policy, Rejection, SceneId, Sequence, State,
+    TableLayout, Transition,
+};
+use stateright::{Model, Property};
+
+use crate::budget::Halt;
+use crate::fault::Fault;
+use crate::ids::{ModelError, MAX_SCENES};
+use crate::spec::{Tables, SPEC};
+
+mod alphabet;
+mod ghost;
+mod properties;
+mod step;
+
+use alphabet::alphabet;
+use ghost::{against_spec, observe};
+pub use ghost::{Broken, Ghost};
+pub use properties::{properties, rule_property, INVARIANTS};
+pub use step::Step;
+
+/// The modules a model draws from, with their default policies: the first `modules` of these.
+pub const MODULES: [(Module, Policy); 4] = [
+    (Module::new(Behavior::LaneChange), Policy::Optional),
+    (
+        Module::with_sequence(Behavior::Avoidance, Sequence::Change),
+        Policy::Required,
+    ),
+    (Module::new(Behavior::Intersection), Policy::Optional),
+    (Module::new(Behavior::Crosswalk), Policy::Required),
+];
+
+/// A module that is never configured: inputs naming it explore the "no policy" rejections.
+pub const STRANGER: Module = Module::new(Behavior::RunOut);
+
+/// The size of a model: how many modules and identifiers, and the core's limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Bounds {
+    /// Configured modules (1 to 4), alternately optional and required by default.
+    pub modules: usize,
+    /// Scene identifiers, `1..=scenes`.
+    pub scenes: usize,
+    /// The live-scene limit (`max_scenes`).
+    pub live: usize,
+    /// The retired capacity.
+    pub retired: usize,
+}
+
+impl Bounds {
+    /// `modules` modules and `scenes` identifiers, at most `scenes - 1` live (so the scene limit
+    /// is reachable), and room to remember every retired identifier.
+    #[must_use]
+    pub fn new(modules: usize, scenes: usize) -> Self {
+        Self {
+            modules,
+            scenes,
+            live: scenes.saturating_sub(1).max(1),
+            retired: scenes,
+        }
+    }
+}
+
+/// The sequential model of the cooperation core.
+#[derive(Clone, Debug)]
+pub struct SequentialModel {
+    bounds: Bounds,
+    fault: Option<Fault>,
+    focus: Option<&'static str>,
+    halt: Halt,
+    table: TableLayout,
+    config: Config,
+    alphabet: Vec<Input>,
+    tables: Tables,
+}
+
+impl SequentialModel {
+    /// The model at these bounds.
+    ///
+    /// # Errors
+    /// If a bound is out of range or the spec's table cannot be read.
+    pub fn new(bounds: Bounds) -> Result<Self, ModelError> {
+        let Bounds {
+            modules,
+            scenes,
+            live,
+            retired,
+        } = bounds;
+        if !(1..=MODULES.len()).contains(&modules) {
+            return Err(ModelError::Bounds(format!(
+                "modules must be 1 to {}",
+                MODULES.len()
+            )));
+        }
+        if !(1..=MAX_SCENES).contains(&scenes) {
+            return Err(ModelError::Bounds(format!(
+                "scenes must be 1 to {MAX_SCENES}"
+            )));
+        }
+        if live == 0 || retired == 0 {
+            return Err(ModelError::Bounds(
+                "the live and retired limits must be at least 1".into(),
+            ));
+        }
+        let config = Config {
+            policies: MODULES.iter().take(modules).copied().collect(),
+            limits: Limits {
+                ttl_ms: 1,
+                max_scenes: live,
+                retired_capacity: retired,
+                max_batch: 2,
+            },
+        };
+        let ids: Vec<SceneId> = (1..=scenes as u128).map(SceneId::from_u128).collect();
+        let tables = Tables::from_spec(SPEC).map_err(ModelError::Table)?;
+        let alphabet = alphabet(&config, &ids);
+        Ok(Self {
+            bounds,
+            fault: None,
+            focus: None,
+            halt: Halt::new(),
+            table: TableLayout::Adaptive,
+            config,
+            alphabet,
+            tables,
+        })
+    }
+
+    /// The same model with a deliberately wrong behaviour injected (sensitivity tests only).
+    #[must_use]
+    pub fn with_fault(mut self, fault: Fault) -> Self {
+        self.fault = Some(fault);
+        self
+    }
+
+    /// The same model checking only the named property (for the shortest counterexample).
+    #[must_use]
+    pub fn focus(mut self, property: &'static str) -> Self {
+        self.focus = Some(property);
+        self
+    }
+
+    /// The same model with the core's live scenes laid out as `table` says: with
+    /// [`TableLayout::Colliding`], every state's table is hashed from its first scene, so the
+    /// check explores the shipped hash index (probing, wrap-around deletion, rebuilds). The
+    /// layout is invisible to `Eq` and `Hash`, so the counts equal the default layout's.
+    #[must_use]
+    pub fn with_table(mut self, table: TableLayout) -> Self {
+        self.table = table;
+        self
+    }
+
+    /// The layout of the core's scene table.
+    #[must_use]
+    pub const fn table(&self) -> TableLayout {
+        self.table
+    }
+
+    /// The same model, stopped by `halt` (see [`crate::budget`]).
+    #[must_use]
+    pub fn with_halt(mut self, halt: Halt) -> Self {
+        self.halt = halt;
+        self
+    }
+
+    /// The bounds.
+    #[must_use]
+    pub const fn bounds(&self) -> Bounds {
+        self.bounds
+    }
+
+    /// The injected fault, if any.
+    #[must_use]
+    pub const fn fault(&self) -> Option<Fault> {
+        self.fault
+    }
+
+    /// The core's configuration in this model.
+    #[must_use]
+    pub const fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Every input the model tries in every state.
+    #[must_use]
+    pub fn alphabet(&self) -> &[Input] {
+        &self.alphabet
+    }
+
+    /// The transition under check: the library's `State::apply` on a copy of `core`, or the
+    /// faulty wrapper around it. Gives the copy as the input left it, and the result.
+    pub fn transition(
+        &self,
+        core: &State,
+        input: &Input,
+    ) -> (State, Result<Transition, Rejection>) {
+        crate::fault::transition(self.fault, core, input)
+    }
+
+    /// The merged decision under check: `State::merged_decision`, or the faulty wrapper.
+    #[must_use]
+    pub fn merged_decision(&self, core: &State, id: SceneId) -> Option<Decision> {
+        match self.fault {
+            None => core.merged_decision(id),
+            Some(fault) => fault.merged_decision(core, id),
+        }
+    }
+
+    /// The state the model starts in.
+    ///
+    /// # Errors
+    /// If the configuration is refused (never, for valid bounds).
+    pub fn initial(&self) -> Result<Step, cooperation::ConfigError> {
+        let core = Arc::new(State::new(self.config.clone())?.with_table_layout(self.table));
+        let order_matters = self.bounds.retired < self.bounds.scenes;
+        Ok(Step::new(
+            core,
+            None,
+            Ghost::default(),
+            false,
+            order_matters,
+        ))
+    }
+
+    /// Every step of a path of inputs, the initial state first.
+    ///
+    /// # Errors
+    /// If the configuration is refused (never, for valid bounds).
+    pub fn replay(&self, inputs: &[Input]) -> Result<Vec<Step>, ModelError> {
+        let first = self
+            .initial()
+            .map_err(|e| ModelError::Bounds(e.to_string()))?;
+        let mut steps = vec![first];
+        for input in inputs {
+            let next = steps.last().map(|last| self.step(last, input));
+            steps.extend(next);
+        }
+        Ok(steps)
+    }
+
+    /// The next step: apply `input`, then record what happened and whether it is what the
+    /// spec's rules say.
+    #[must_use]
+    pub fn step(&self, from: &Step, input: &Input) -> Step {
+        let (core, result) = self.transition(&from.core, input);
+        let rule = match &result {
+            Ok(transition) => transition.rule,
+            Err(rejection) => rejection.rule(),
+        };
+        let departures = against_spec(&self.tables, from, input, &result, &core);
+        if core == *from.core {
+            // Nothing changed; only a departure from the spec is news.
+            let mut ghost = from.ghost;
+            ghost.broken = ghost.broken.and(departures);
+            if ghost == from.ghost {
+                return Step::stalled_after(from, rule);
+            }
+            let core = Arc::clone(&from.core);
+            return Step::new(core, Some(rule), ghost, false, from.order_matters);
+        }
+        let mut ghost = observe(from, input, &result, &core);
+        ghost.broken = ghost.broken.and(departures);
+        Step::new(Arc::new(core), Some(rule), ghost, false, from.order_matters)
+    }
+}
+
+/// An action of the model: the position of an input in [`SequentialModel::alphabet`].
+pub type Action = usize;
+
+impl Model for SequentialModel {
+    type State = Step;
+    type Action = Action;
+
+    fn init_states(&self) -> Vec<Step> {
+        self.initial().into_iter().collect()
+    }
+
+    fn actions(&self, step: &Step, actions: &mut Vec<Action>) {
+        if self.halt.is_set() {
+            return;
+        }
+        // A step that changed nothing is a dead end: its predecessor, equal to it but for the
+        // rule just recorded, is expanded already.
+        if !step.stalled {
+            actions.extend(0..self.alphabet.len());
+        }
+    }
+
+    fn within_boundary(&self, _: &Step) -> bool {
+        !self.halt.is_set()
+    }
+
+    fn next_state(&self, from: &Step, action: Action) -> Option<Step> {
+        self.alphabet
+            .get(action)
+            .map(|input| self.step(from, input))
+    }
+
+    fn format_action(&self, action: &Action) -> String {
+        self.alphabet
+            .get(*action)
+            .map_or_else(|| format!("input #{action}"), crate::describe::describe)
+    }
+
+    fn properties(&self) -> Vec<Property<Self>> {
+        let mut all = properties();
+        if let Some(focus) = self.focus {
+            all.retain(|p| p.name == focus);
+        }
+        all
+    }
+}

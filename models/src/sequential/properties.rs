@@ -1,0 +1,289 @@
+//! The sequential model's properties, stated from the specification and named by its tags.
+
+use std::sync::OnceLock;
+
+use cooperation::{Decision, OperatorDecision, Phase, Policy, Rule, State};
+use stateright::Property;
+
+use super::{Broken, SequentialModel, Step};
+
+// ---------------------------------------------------------------------------------------------
+// Properties
+// ---------------------------------------------------------------------------------------------
+
+type Condition = fn(&SequentialModel, &Step) -> bool;
+
+/// The policy `[COOP-MERGE.1]` applies to a scene: required if it is requested
+/// (`[COOP-REQUESTED.1]`), else its module's.
+fn policy_for(core: &State, scene: &cooperation::Scene) -> Option<Policy> {
+    let module = core.policy(scene.module())?;
+    Some(if scene.is_requested() {
+        Policy::Required
+    } else {
+        module
+    })
+}
+
+/// Every live scene's merged decision is the spec table's for its current values.
+fn merge_is_the_table(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().all(|(id, scene)| {
+        let policy = policy_for(&step.core, scene);
+        let expected = policy.and_then(|policy| {
+            model
+                .tables
+                .merge
+                .merged(scene.operator_decision(), policy, scene.module_decision())
+        });
+        expected.is_some() && model.merged_decision(&step.core, id) == expected
+    })
+}
+
+/// A required policy, or a request for the operator, with no operator decision never
+/// activates.
+fn required_none_never_activates(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().all(|(id, scene)| {
+        let held = scene.operator_decision() == OperatorDecision::Undecided
+            && (scene.is_requested() || step.core.policy(scene.module()) == Some(Policy::Required));
+        !held || model.merged_decision(&step.core, id) == Some(Decision::Deactivate)
+    })
+}
+
+/// An explicit operator decision (activate or deactivate) is the merged decision.
+fn explicit_operator_wins(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().all(|(id, scene)| {
+        let explicit = match scene.operator_decision() {
+            OperatorDecision::Activate => Some(Decision::Activate),
+            OperatorDecision::Deactivate => Some(Decision::Deactivate),
+            OperatorDecision::Autonomous | OperatorDecision::Undecided => None,
+        };
+        explicit.is_none() || model.merged_decision(&step.core, id) == explicit
+    })
+}
+
+fn unbroken<const FLAG: u64>(_: &SequentialModel, step: &Step) -> bool {
+    !step.ghost.broken.contains(Broken(FLAG))
+}
+
+/// The library's own invariant check (every invariant of spec §8) passes.
+fn invariants_hold(_: &SequentialModel, step: &Step) -> bool {
+    step.core.check_invariants().is_ok()
+}
+
+fn rule_fired<const I: usize>(_: &SequentialModel, step: &Step) -> bool {
+    step.last.is_some() && step.last == Rule::ALL.get(I).copied()
+}
+
+/// No step so far met rule `I`'s *When* without ending in its *Then*.
+fn rule_kept<const I: usize>(_: &SequentialModel, step: &Step) -> bool {
+    Rule::ALL
+        .get(I)
+        .is_some_and(|rule| !step.ghost.broken.contains(Broken::rule(*rule)))
+}
+
+/// `[COOP-FORCE-ACTIVATED.1]` and `[COOP-FORCE-DEACTIVATED.1]`, from their definitions.
+fn force_flags_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().all(|(id, scene)| {
+        let (operator, module) = (scene.operator_decision(), scene.module_decision());
+        let cancellable = matches!(scene.phase(), Phase::WaitingForExecution | Phase::Running);
+        let activated = cancellable
+            && operator == OperatorDecision::Activate
+            && (module == Decision::Deactivate || scene.is_requested());
+        let deactivated = scene.phase() == Phase::Running
+            && operator == OperatorDecision::Deactivate
+            && module == Decision::Activate;
+        step.core.force_activated(id) == Some(activated)
+            && step.core.force_deactivated(id) == Some(deactivated)
+            && scene.is_cancellable() == cancellable
+    })
+}
+
+/// Witness: the operator made the planner go on with a scene its module holds back.
+fn operator_overrides_module(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().any(|(id, scene)| {
+        scene.module_decision() == Decision::Deactivate
+            && model.merged_decision(&step.core, id) == Some(Decision::Activate)
+    })
+}
+
+/// Witness: a required policy holds back a scene its module would go on with.
+fn policy_holds_scene_back(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().any(|(id, scene)| {
+        scene.module_decision() == Decision::Activate
+            && scene.operator_decision() == OperatorDecision::Undecided
+            && !scene.is_requested()
+            && step.core.policy(scene.module()) == Some(Policy::Required)
+            && model.merged_decision(&step.core, id) == Some(Decision::Deactivate)
+    })
+}
+
+/// Witness: an owner's request holds back a scene whose module's policy is optional.
+fn request_holds_scene_back(model: &SequentialModel, step: &Step) -> bool {
+    step.core.scenes().any(|(id, scene)| {
+        scene.is_requested()
+            && step.core.policy(scene.module()) == Some(Policy::Optional)
+            && scene.module_decision() == Decision::Activate
+            && model.merged_decision(&step.core, id) == Some(Decision::Deactivate)
+    })
+}
+
+macro_rules! per_index {
+    ($f:ident: $($i:literal)*) => { [$($f::<$i> as Condition),*] };
+}
+
+/// The safety properties, by name.
+fn always() -> Vec<(&'static str, Condition)> {
+    vec![
+        (
+            "COOP-MERGE.1: the merged decision is the spec table's",
+            merge_is_the_table,
+        ),
+        (
+            "COOP-MERGE.1, COOP-REQUESTED.1: required or requested with no operator decision never activates",
+            required_none_never_activates,
+        ),
+        (
+            "COOP-MERGE.1: an explicit operator decision wins",
+            explicit_operator_wins,
+        ),
+        (
+            "spec §4: a rejected input changes nothing",
+            unbroken::<{ Broken::REJECTION_CHANGED.0 }>,
+        ),
+        (
+            "COOP-CMD-APPLY.1: only commands change operator decisions",
+            unbroken::<{ Broken::OPERATOR_BY_OTHER.0 }>,
+        ),
+        (
+            "COOP-CMD-APPLY.1: a command changes only the operator decision it names",
+            unbroken::<{ Broken::COMMAND_SPILLED.0 }>,
+        ),
+        (
+            "COOP-CMD-APPLY.1: an applied command takes effect",
+            unbroken::<{ Broken::COMMAND_MISSED.0 }>,
+        ),
+        (
+            "COOP-POL-SET.1: a policy change alters no scene and no other module",
+            unbroken::<{ Broken::POLICY_SPILLED.0 }>,
+        ),
+        (
+            "COOP-POL-SET.1: a policy change reaches its module",
+            unbroken::<{ Broken::POLICY_MISSED.0 }>,
+        ),
+        (
+            "COOP-POL-SET.1: only policy changes change policies",
+            unbroken::<{ Broken::POLICY_BY_OTHER.0 }>,
+        ),
+        (
+            "COOP-CMD-RETIRED.1: commands naming retired identifiers change nothing",
+            unbroken::<{ Broken::RETIRED_COMMAND.0 }>,
+        ),
+        (
+            "COOP-OWN-MODULE.1: an identifier keeps its module while remembered",
+            unbroken::<{ Broken::ID_MOVED.0 }>,
+        ),
+        (
+            "COOP-REG-RETIRED.1: a remembered retired identifier never becomes live again",
+            unbroken::<{ Broken::REVIVED.0 }>,
+        ),
+        (
+            "COOP-RETIRE.1: terminal states are sticky",
+            unbroken::<{ Broken::TERMINAL_LEFT.0 }>,
+        ),
+        (
+            "COOP-RETIRE.1: the retired set forgets only when full, oldest first",
+            unbroken::<{ Broken::FORGOT_EARLY.0 }>,
+        ),
+        (
+            "§7: an update goes where the spec's lifecycle table allows, and nowhere else",
+            unbroken::<{ Broken::LIFECYCLE.0 }>,
+        ),
+        (
+            "COOP-FORCE-ACTIVATED.1, COOP-FORCE-DEACTIVATED.1, COOP-CANCELLABLE.1: force flags and cancellability are the spec's",
+            force_flags_are_the_spec,
+        ),
+    ]
+}
+
+/// The name of the property that runs the library's invariant check.
+pub const INVARIANTS: &str = "COOP-INV-*: State::check_invariants holds (spec §8)";
+
+/// The name of rule `rule`'s own safety property.
+#[must_use]
+pub fn rule_property(rule: Rule) -> String {
+    format!(
+        "{}: when the spec's condition holds, this rule fires with the spec's outcome",
+        rule.tag()
+    )
+}
+
+/// Every property: the safety properties, one per rule of §5 from its *When*/*Then*, the
+/// library's invariant check, one reachability property per rule, and scenario witnesses.
+#[must_use]
+pub fn properties() -> Vec<Property<SequentialModel>> {
+    static NAMES: OnceLock<Vec<(&'static str, &'static str)>> = OnceLock::new();
+    let names = NAMES.get_or_init(|| {
+        let leak = |text: String| -> &'static str { Box::leak(text.into_boxed_str()) };
+        Rule::ALL
+            .iter()
+            .map(|r| {
+                let kept = leak(rule_property(*r));
+                (kept, leak(format!("{} is reachable", r.tag())))
+            })
+            .collect()
+    });
+    let kept = per_index!(rule_kept: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23);
+    let fired =
+        per_index!(rule_fired: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23);
+    let mut properties: Vec<Property<SequentialModel>> = always()
+        .into_iter()
+        .map(|(name, condition)| Property::always(name, condition))
+        .collect();
+    properties.extend(
+        names
+            .iter()
+            .zip(kept)
+            .map(|((name, _), condition)| Property::always(name, condition)),
+    );
+    properties.push(Property::always(INVARIANTS, invariants_hold));
+    properties.extend(
+        names
+            .iter()
+            .zip(fired)
+            .map(|((_, name), condition)| Property::sometimes(name, condition)),
+    );
+    properties.push(Property::sometimes(
+        "witness: the operator overrides a deactivated scene",
+        operator_overrides_module,
+    ));
+    properties.push(Property::sometimes(
+        "witness: a required policy holds a scene back",
+        policy_holds_scene_back,
+    ));
+    properties.push(Property::sometimes(
+        "witness: an owner's request holds a scene back under an optional policy",
+        request_holds_scene_back,
+    ));
+    properties
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn there_is_a_property_per_rule_and_per_invariant() {
+        let names: Vec<&str> = properties().iter().map(|p| p.name).collect();
+        for rule in Rule::ALL {
+            assert!(
+                names
+                    .iter()
+                    .any(|n| n.starts_with(rule.tag()) && n.ends_with("is reachable")),
+                "{rule}"
+            );
+            assert!(names.contains(&rule_property(rule).as_str()), "{rule}");
+        }
+        assert!(names.contains(&INVARIANTS));
+        let unique: std::collections::BTreeSet<&str> = names.iter().copied().collect();
+        assert_eq!(unique.len(), names.len(), "property names are unique");
+    }
+}

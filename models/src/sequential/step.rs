@@ -1,0 +1,217 @@
+//! A model state (`Step`): the core's state, the rule last fired and the history, with its
+//! fingerprint and its canonical form under renaming of identifiers.
+
+use std::hash::{Hash, Hasher};
+use std::sync::{Arc, OnceLock};
+
+use cooperation::{Rule, SceneId, State};
+use stateright::Representative;
+
+use super::Ghost;
+use crate::ids::{index, MAX_SCENES};
+use crate::spec::rules::Snapshot;
+
+/// Each model state: the core's state plus history variables.
+///
+/// Fingerprinted by the core's content, the rule, the history and `stalled`, except that when
+/// the retired capacity covers every identifier (`order_matters` is false) the order in which
+/// identifiers retired is left out: no identifier is ever forgotten then, so the order is
+/// unobservable.
+#[derive(Clone, serde::Serialize)]
+pub struct Step {
+    /// The library's state.
+    pub core: Arc<State>,
+    /// The rule the last input fired or was rejected by; `None` initially.
+    pub last: Option<Rule>,
+    /// History the transition properties need.
+    pub ghost: Ghost,
+    /// The last input changed nothing (core and history are the predecessor's).
+    pub stalled: bool,
+    /// Whether the retirement order can matter (the retired set can fill up).
+    pub order_matters: bool,
+    /// Values derived from `core` and `ghost`, computed once and shared by every step with the
+    /// same core and history (a stalled step shares its predecessor's).
+    #[serde(skip)]
+    derived: Arc<Derived>,
+}
+
+/// What is derived from a step's core and history: the core's fingerprint contribution, and
+/// (when symmetry reduction asks for it) the canonical renaming.
+struct Derived {
+    core_hash: u64,
+    /// The canonical form, or `None` when the step is canonical already (a `Some(self)` would
+    /// be a reference cycle).
+    canonical: OnceLock<Option<Step>>,
+    /// The core as the spec's rules read it, built once for all the step's successors.
+    snapshot: OnceLock<Snapshot>,
+}
+
+impl Step {
+    pub(super) fn new(
+        core: Arc<State>,
+        last: Option<Rule>,
+        ghost: Ghost,
+        stalled: bool,
+        order_matters: bool,
+    ) -> Self {
+        let derived = Arc::new(Derived {
+            core_hash: core_hash(&core, order_matters),
+            canonical: OnceLock::new(),
+            snapshot: OnceLock::new(),
+        });
+        Self {
+            core,
+            last,
+            ghost,
+            stalled,
+            order_matters,
+            derived,
+        }
+    }
+
+    /// The core as the spec's rules read it.
+    pub(super) fn snapshot(&self) -> &Snapshot {
+        self.derived
+            .snapshot
+            .get_or_init(|| Snapshot::of(&self.core))
+    }
+
+    /// The step for an input that changed nothing: same core and history, shared derivations.
+    pub(super) fn stalled_after(from: &Self, rule: Rule) -> Self {
+        Self {
+            last: Some(rule),
+            stalled: true,
+            ..from.clone()
+        }
+    }
+}
+
+/// The core's content as the fingerprint sees it (see [`Step`]). A fixed-seed foldhash: about
+/// five times cheaper per byte than the SipHash the checker fingerprints with, and as
+/// deterministic, so a run's counts never depend on the process.
+fn core_hash(core: &State, order_matters: bool) -> u64 {
+    use std::hash::BuildHasher;
+    let mut state = foldhash::quality::FixedState::with_seed(0x636f_6f70).build_hasher();
+    core.limits().hash(&mut state);
+    core.policies().for_each(|setting| setting.hash(&mut state));
+    core.scene_count().hash(&mut state);
+    core.scenes().for_each(|scene| scene.hash(&mut state));
+    if order_matters {
+        core.retired().for_each(|retired| retired.hash(&mut state));
+    } else {
+        core.retirements()
+            .for_each(|retired| retired.hash(&mut state));
+    }
+    state.finish()
+}
+
+impl PartialEq for Step {
+    fn eq(&self, other: &Self) -> bool {
+        self.core == other.core
+            && self.last == other.last
+            && self.ghost == other.ghost
+            && self.stalled == other.stalled
+            && self.order_matters == other.order_matters
+    }
+}
+
+impl Eq for Step {}
+
+impl Hash for Step {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.derived.core_hash.hash(state);
+        self.last.hash(state);
+        self.ghost.hash(state);
+        self.stalled.hash(state);
+    }
+}
+
+impl core::fmt::Debug for Step {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Step")
+            .field("core", &self.core)
+            .field("last", &self.last)
+            .field("ghost", &self.ghost)
+            .field("stalled", &self.stalled)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Representative for Step {
+    /// Identifiers renamed `1, 2, …` in the order of everything known about them, so that all
+    /// states equal up to renaming share one representative. The sort key is each identifier's
+    /// whole signature, so the representative is canonical.
+    fn representative(&self) -> Self {
+        match self.derived.canonical.get_or_init(|| self.canonical()) {
+            Some(canonical) => Self {
+                last: self.last,
+                stalled: self.stalled,
+                ..canonical.clone()
+            },
+            None => self.clone(),
+        }
+    }
+}
+
+impl Step {
+    fn canonical(&self) -> Option<Self> {
+        let core = &self.core;
+        let position = |id: SceneId| {
+            if self.order_matters {
+                core.retired().position(|(o, _)| o == id)
+            } else {
+                None
+            }
+        };
+        // Every identifier's signature; identifiers nothing is known of sort last.
+        let mut signed: [_; MAX_SCENES] = core::array::from_fn(|i| {
+            let id = SceneId::from_u128(i as u128 + 1);
+            let signature = (
+                core.scene(id),
+                core.retirement(id),
+                self.ghost.owner(id),
+                self.ghost.was_retired(id),
+                position(id),
+            );
+            let unknown = signature == (None, None, None, false, None);
+            ((unknown, signature), i)
+        });
+        signed.sort_unstable();
+        let mut names = [0; MAX_SCENES];
+        for (new, (_, old)) in signed.iter().enumerate() {
+            if let Some(name) = names.get_mut(*old) {
+                *name = new;
+            }
+        }
+        if names.iter().enumerate().all(|(old, new)| old == *new) {
+            return None;
+        }
+        let rename = |id: SceneId| {
+            index(id)
+                .and_then(|i| names.get(i))
+                .map_or(id, |n| SceneId::from_u128(*n as u128 + 1))
+        };
+        let core = self.core.relabel(rename)?;
+        let mut ghost = Ghost {
+            broken: self.ghost.broken,
+            ..Ghost::default()
+        };
+        for (old, new) in names.iter().enumerate() {
+            if let (Some(slot), Some(owner)) =
+                (ghost.owners.get_mut(*new), self.ghost.owners.get(old))
+            {
+                *slot = *owner;
+            }
+            if self.ghost.retired_ever & (1 << old) != 0 {
+                ghost.retired_ever |= 1 << new;
+            }
+        }
+        Some(Self::new(
+            Arc::new(core),
+            self.last,
+            ghost,
+            self.stalled,
+            self.order_matters,
+        ))
+    }
+}

@@ -1,0 +1,112 @@
+//! The checker command fails loudly: it stops at the first violation with its shortest
+//! counterexample saved, and a run that would outgrow its budget ends with a report, the word
+//! "incomplete" and a non-zero exit status, never as a process the system had to kill.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+/// Runs `cooperation-models check` with `args`, counterexamples under a fresh folder; gives the
+/// exit code, the standard output and the folder.
+fn check(name: &str, args: &[&str]) -> (Option<i32>, String, PathBuf) {
+    let out = std::env::temp_dir().join(format!("cooperation-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .arg("check")
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("the checker runs");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    (output.status.code(), stdout, out)
+}
+
+fn saved(dir: &PathBuf) -> usize {
+    std::fs::read_dir(dir).map_or(0, |entries| {
+        entries
+            .filter_map(Result::ok)
+            .filter(|e| e.path().extension().is_some_and(|x| x == "json"))
+            .count()
+    })
+}
+
+#[test]
+fn a_correct_model_passes_with_status_zero() {
+    let (code, stdout, _) = check("pass", &["--modules", "1", "--scenes", "2"]);
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(stdout.contains("satisfied, 0 violated"), "{stdout}");
+    assert!(!stdout.contains("incomplete"), "{stdout}");
+}
+
+#[test]
+fn the_first_violation_stops_the_check_with_a_saved_counterexample() {
+    let (code, stdout, out) = check("first", &["--fault", "RetiredIdReused"]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("| VIOLATED | always | COOP-REG-RETIRED.1"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("incomplete: stopped at the first violated property"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("shortest counterexample, 3 steps"),
+        "{stdout}"
+    );
+    assert!(
+        saved(&out) > 0,
+        "no counterexample saved in {}",
+        out.display()
+    );
+}
+
+/// The fault that, collecting every violation, grew a check to 24 GiB until the kernel killed
+/// it: the memory budget ends it instead, with its report.
+#[test]
+fn a_space_exploding_fault_ends_within_the_memory_budget() {
+    let args = [
+        "--fault",
+        "RetiredIdReused",
+        "--keep-going",
+        "--memory-gib",
+        "1",
+    ];
+    let (code, stdout, out) = check("memory", &args);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("incomplete: stopped after reaching the memory budget"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("unknown (the search is incomplete)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("| VIOLATED |"), "{stdout}");
+    assert!(
+        saved(&out) > 0,
+        "no counterexample saved in {}",
+        out.display()
+    );
+}
+
+#[test]
+fn the_state_budget_ends_a_correct_check_as_incomplete() {
+    let (code, stdout, _) = check("states", &["--max-states", "20000"]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("incomplete: stopped after reaching the state budget"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("0 violated"), "{stdout}");
+    assert!(
+        !stdout.contains("| holds |"),
+        "an incomplete search proves nothing: {stdout}"
+    );
+}
+
+#[test]
+fn bad_usage_exits_with_status_two() {
+    let (code, _, _) = check("usage", &["--memory-gib", "lots"]);
+    assert_eq!(code, Some(2));
+}
