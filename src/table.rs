@@ -52,15 +52,17 @@ pub enum TableLayout {
     Colliding,
 }
 
-/// What a layout means to the table: when the index starts, how it hashes, its least size.
+/// The fewest buckets an index has: two, so that [`TableLayout::Colliding`]'s two last buckets
+/// are distinct. An adaptive index starts past 16 entries, so with at least 32 buckets anyway.
+const MIN_BUCKETS: usize = 2;
+
+/// What a layout means to the table: when the index starts and how it hashes.
 #[derive(Clone, Copy)]
 struct Layout {
     /// The most entries kept as a sorted vector without an index.
     small: usize,
     /// The hash of an identifier; its low bits pick the bucket.
     hash: fn(SceneId) -> u64,
-    /// The fewest buckets an index has.
-    min_buckets: usize,
     /// The layout this stands for.
     name: TableLayout,
 }
@@ -71,13 +73,11 @@ impl Layout {
             TableLayout::Adaptive => Self {
                 small: SMALL,
                 hash: spread,
-                min_buckets: 2 * SMALL,
                 name: layout,
             },
             TableLayout::Colliding => Self {
                 small: 0,
                 hash: colliding,
-                min_buckets: 2,
                 name: layout,
             },
         }
@@ -298,7 +298,7 @@ impl<V> IdTable<V> {
     fn rebuild_index(&mut self) {
         let buckets = (self.entries.len() * 2)
             .next_power_of_two()
-            .max(self.layout.min_buckets);
+            .max(MIN_BUCKETS);
         self.index = vec![EMPTY; buckets];
         for position in 0..self.entries.len() {
             let Some(id) = self.id_at(position) else {
