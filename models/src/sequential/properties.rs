@@ -2,7 +2,7 @@
 
 use std::sync::OnceLock;
 
-use cooperation::{Decision, OperatorDecision, Phase, Policy, Rule, State};
+use cooperation::{Decision, OperatorDecision, Phase, Policy, Rule, State, TableLayout};
 use stateright::Property;
 
 use super::{Broken, SequentialModel, Step};
@@ -78,6 +78,17 @@ fn rule_kept<const I: usize>(_: &SequentialModel, step: &Step) -> bool {
     Rule::ALL
         .get(I)
         .is_some_and(|rule| !step.ghost.broken.contains(Broken::rule(*rule)))
+}
+
+/// Spec §3's scenes are a map: laid out the other way ([`State::with_table_layout`]), the state
+/// is equal to itself, lists the same scenes in the same order, and says which layout it has.
+fn layout_is_invisible(_: &SequentialModel, step: &Step) -> bool {
+    let other = match step.core.table_layout() {
+        TableLayout::Adaptive => TableLayout::Colliding,
+        TableLayout::Colliding => TableLayout::Adaptive,
+    };
+    let relaid = State::clone(&step.core).with_table_layout(other);
+    relaid.table_layout() == other && relaid == *step.core && relaid.scenes().eq(step.core.scenes())
 }
 
 /// `[COOP-FORCE-ACTIVATED.1]` and `[COOP-FORCE-DEACTIVATED.1]`, from their definitions.
@@ -200,6 +211,10 @@ fn always() -> Vec<(&'static str, Condition)> {
         (
             "COOP-FORCE-ACTIVATED.1, COOP-FORCE-DEACTIVATED.1, COOP-CANCELLABLE.1: force flags and cancellability are the spec's",
             force_flags_are_the_spec,
+        ),
+        (
+            "spec §3: the scenes are a map, the same in either table layout",
+            layout_is_invisible,
         ),
     ]
 }
