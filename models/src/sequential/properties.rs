@@ -2,7 +2,12 @@
 
 use std::sync::OnceLock;
 
-use cooperation::{Decision, OperatorDecision, Phase, Policy, Rule, State, TableLayout};
+use core::cmp::Ordering;
+
+use cooperation::{
+    Decision, FactorKind, FactorLists, Geometry, OperatorDecision, Phase, Policy, Rule, SceneId,
+    State, TableLayout,
+};
 use stateright::Property;
 
 use super::{Broken, SequentialModel, Step};
@@ -89,6 +94,65 @@ fn layout_is_invisible(_: &SequentialModel, step: &Step) -> bool {
     };
     let relaid = State::clone(&step.core).with_table_layout(other);
     relaid.table_layout() == other && relaid == *step.core && relaid.scenes().eq(step.core.scenes())
+}
+
+/// `[COOP-OUT-ORDER.1]`'s order of distances, from its text: ascending, every NaN, of either
+/// sign, last (NaNs in the order of their bits, positive ones first).
+fn spec_distance_order(a: f32, b: f32) -> Ordering {
+    match (a.is_nan(), b.is_nan()) {
+        (false, false) => a.total_cmp(&b),
+        (true, false) => Ordering::Greater,
+        (false, true) => Ordering::Less,
+        (true, true) => (a.to_bits() >> 31)
+            .cmp(&(b.to_bits() >> 31))
+            .then(a.total_cmp(&b)),
+    }
+}
+
+/// `[COOP-OUT-ORDER.1]`: each factor list holds every live scene of its kind once, with its
+/// status, by distance and then identifier; `factors_into` lists what the one-list calls list.
+fn factor_lists_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
+    let core: &State = &step.core;
+    let expected = |kind: FactorKind| {
+        let mut scenes: Vec<(f32, SceneId)> = core
+            .scenes()
+            .filter(|(_, scene)| scene.geometry().kind() == kind)
+            .map(|(id, scene)| (scene.geometry().sort_distance().0, id))
+            .collect();
+        scenes.sort_by(|a, b| spec_distance_order(a.0, b.0).then(a.1.cmp(&b.1)));
+        scenes.into_iter().map(|(_, id)| id).collect::<Vec<_>>()
+    };
+    let mut velocity = Vec::new();
+    let mut steering = Vec::new();
+    core.velocity_factors_into(&mut velocity);
+    core.steering_factors_into(&mut steering);
+    let mut lists = FactorLists::default();
+    core.factors_into(&mut lists);
+    let statuses_are_current = velocity
+        .iter()
+        .map(|f| &f.cooperation)
+        .chain(steering.iter().map(|f| &f.cooperation))
+        .all(|status| core.status(status.id).as_ref() == Some(status));
+    let geometry_is_the_scenes = velocity.iter().all(|f| {
+        core.scene(f.cooperation.id).map(|s| *s.geometry())
+            == Some(Geometry::Velocity {
+                pose: f.pose,
+                distance: f.distance,
+                status: f.status,
+            })
+    });
+    statuses_are_current
+        && geometry_is_the_scenes
+        && velocity
+            .iter()
+            .map(|f| f.cooperation.id)
+            .eq(expected(FactorKind::Velocity))
+        && steering
+            .iter()
+            .map(|f| f.cooperation.id)
+            .eq(expected(FactorKind::Steering))
+        && lists.velocity == velocity
+        && lists.steering == steering
 }
 
 /// `[COOP-FORCE-ACTIVATED.1]` and `[COOP-FORCE-DEACTIVATED.1]`, from their definitions.
@@ -215,6 +279,10 @@ fn always() -> Vec<(&'static str, Condition)> {
         (
             "spec §3: the scenes are a map, the same in either table layout",
             layout_is_invisible,
+        ),
+        (
+            "COOP-OUT-ORDER.1: each factor list holds every live scene of its kind once, by distance and then identifier",
+            factor_lists_are_the_spec,
         ),
     ]
 }
