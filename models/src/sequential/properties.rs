@@ -96,6 +96,28 @@ fn layout_is_invisible(_: &SequentialModel, step: &Step) -> bool {
     relaid.table_layout() == other && relaid == *step.core && relaid.scenes().eq(step.core.scenes())
 }
 
+/// Spec §3's state seen through every query: the listings agree with the lookups and the
+/// counts, scenes and retirements are listed in identifier order, and the retired identifiers
+/// in order of retirement are the same set.
+fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
+    let core: &State = &step.core;
+    let ascending = |ids: &[SceneId]| ids.windows(2).all(|w| w.first() < w.last());
+    let live: Vec<SceneId> = core.scenes().map(|(id, _)| id).collect();
+    let by_id: Vec<SceneId> = core.retirements().map(|(id, _)| id).collect();
+    let mut by_age: Vec<SceneId> = core.retired().map(|(id, _)| id).collect();
+    by_age.sort_unstable();
+    ascending(&live)
+        && live.len() == core.scene_count()
+        && core
+            .scenes()
+            .all(|(id, scene)| core.scene(id) == Some(scene))
+        && ascending(&by_id)
+        && by_id == by_age
+        && core
+            .retirements()
+            .all(|(id, retirement)| core.retirement(id) == Some(retirement))
+}
+
 /// `[COOP-OUT-ORDER.1]`'s order of distances, from its text: ascending, every NaN, of either
 /// sign, last (NaNs in the order of their bits, positive ones first).
 fn spec_distance_order(a: f32, b: f32) -> Ordering {
@@ -279,6 +301,10 @@ fn always() -> Vec<(&'static str, Condition)> {
         (
             "spec §3: the scenes are a map, the same in either table layout",
             layout_is_invisible,
+        ),
+        (
+            "spec §3: the state's queries agree with one another",
+            queries_agree,
         ),
         (
             "COOP-OUT-ORDER.1: each factor list holds every live scene of its kind once, by distance and then identifier",
