@@ -63,6 +63,10 @@ fn expected(fault: Fault) -> (&'static str, Bounds) {
             "COOP-CMD-APPLY.1: a command changes only the operator decision it names",
             two_live,
         ),
+        Fault::CommandIgnoresCancellable => (
+            "COOP-CMD-NOT-CANCELLABLE.1: when the spec's condition holds, this rule fires with the spec's outcome",
+            small,
+        ),
     }
 }
 
