@@ -31,16 +31,27 @@ fn cancellable(scene: &Scene) -> bool {
 /// Whether `seen`, a status list as a message carries it, is what the library reported of
 /// `sent_from`, the planner's state it was sent from (`[COOP-OUT-STATUS.1]`): one entry per
 /// live scene, in identifier order, and, with status views, each scene's status as the
-/// library's own query for that scene gives it (with identifier views, no status).
+/// library's own query for that scene gives it, which is the spec's: the scene's identifier,
+/// module decision and operator decision, and cancellable as `[COOP-CANCELLABLE.1]` defines it.
+/// With identifier views, an entry carries no status.
 #[must_use]
 pub fn reported(sent_from: &State, seen: &[Seen], views: Views) -> bool {
-    let mut live = sent_from.scenes().map(|(id, _)| id);
+    let mut live = sent_from.scenes();
     let each = seen.iter().all(|entry| {
+        let Some((id, scene)) = live.next() else {
+            return false;
+        };
         let status = match views {
             Views::Identifiers => None,
-            Views::Statuses => sent_from.status(entry.id),
+            Views::Statuses => sent_from.status(id),
         };
-        live.next() == Some(entry.id) && entry.status == status
+        let the_spec_s = status.map_or(true, |status| {
+            status.id == id
+                && status.module_decision == scene.module_decision()
+                && status.operator_decision == scene.operator_decision()
+                && status.cancellable == cancellable(scene)
+        });
+        entry.id == id && entry.status == status && the_spec_s
     });
     each && live.next().is_none()
 }
