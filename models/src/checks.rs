@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use cooperation::TableLayout;
-use cooperation_models::network::{COMMANDS_IN_FLIGHT, OPERATORS, STATUSES_IN_FLIGHT};
+use cooperation_models::network::{Views, COMMANDS_IN_FLIGHT, STATUSES_IN_FLIGHT};
 use core::fmt::Debug;
 use core::hash::Hash;
 
@@ -161,16 +161,25 @@ fn run_network(options: &Options) -> Result<bool, String> {
     let bounds = NetBounds {
         scenes: options.bounds.scenes,
     };
-    let model = NetworkModel::new(bounds).map_err(|e| e.to_string())?;
+    let model = NetworkModel::new(bounds)
+        .and_then(|model| model.with_operators(options.operators))
+        .map_err(|e| e.to_string())?
+        .with_views(options.views);
     let model = match fault(options, &Fault::ALL)? {
         Some(fault) => model.with_fault(fault),
         None => model,
     };
+    let operators = model.operators();
     println!(
-        "network model: the planner and {OPERATORS} operators, {} scene identifiers, at most \
+        "network model: the planner and {operators} operator{}, {} scene identifiers, at most \
          {STATUSES_IN_FLIGHT} status message per operator and {COMMANDS_IN_FLIGHT} commands in flight, \
-         delivered in any order, duplicated or lost",
-        bounds.scenes
+         delivered in any order, duplicated or lost; operators are told {}",
+        if operators == 1 { "" } else { "s" },
+        bounds.scenes,
+        match options.views {
+            Views::Identifiers => "which scenes exist (--views ids)",
+            Views::Statuses => "the library's statuses, decisions included (--views statuses)",
+        }
     );
     let settings = Settings {
         strategy: Strategy::Bfs,

@@ -7,8 +7,8 @@
 //! fault then does nothing for that step.
 
 use cooperation::{
-    merge, CommandOutcome, Decision, Input, OperatorDecision, Policy, Rejection, Rule, SceneId,
-    State, Transition,
+    merge, CommandFailure, CommandOutcome, Decision, Input, OperatorDecision, Policy, Rejection,
+    Rule, SceneId, State, Transition,
 };
 use serde_json::{json, Value};
 
@@ -43,11 +43,14 @@ pub enum Fault {
     CommandToggles,
     /// A command is applied to every cancellable scene, not only the one it names.
     CommandBroadcast,
+    /// A command is applied even to a scene that is not cancellable (aborting), and reported
+    /// as applied.
+    CommandIgnoresCancellable,
 }
 
 impl Fault {
     /// Every fault.
-    pub const ALL: [Self; 13] = [
+    pub const ALL: [Self; 14] = [
         Self::RequiredAsOptional,
         Self::OperatorDeactivateIgnored,
         Self::CommandReachesRetired,
@@ -61,6 +64,7 @@ impl Fault {
         Self::ForgetsEarly,
         Self::CommandToggles,
         Self::CommandBroadcast,
+        Self::CommandIgnoresCancellable,
     ];
 
     /// The library's transition, made wrong.
@@ -161,6 +165,27 @@ impl Fault {
                     }
                 })
             }
+            (
+                Self::CommandIgnoresCancellable,
+                Input::SetCommands { commands },
+                Err(Rejection::Commands { outcomes, .. }),
+            ) if outcomes.iter().all(|o| {
+                matches!(o, CommandOutcome::Withheld | CommandOutcome::Failed(CommandFailure::NotCancellable(_)))
+            }) =>
+            {
+                // Every command that failed only for its scene's phase is applied as if the
+                // scene were cancellable.
+                edit(core, |raw| {
+                    for command in commands {
+                        let id = json!(command.id);
+                        for entry in scenes(raw) {
+                            if entry.get(0) == Some(&id) {
+                                set(entry, "/1/operator_decision", json!(command.decision));
+                            }
+                        }
+                    }
+                })
+            }
             (Self::ForgetsEarly, _, Ok(t)) if !t.retired.is_empty() => {
                 let remembered = core.retired().count();
                 let oldest = core.retired().map(|(id, _)| id).next();
@@ -180,6 +205,14 @@ impl Fault {
             (Self::TerminalLeaves, Err(Rejection::RetiredScene { .. })) if *core != before => {
                 Ok(Transition {
                     rule: Rule::OwnerUpdate,
+                    retired: Vec::new(),
+                })
+            }
+            (Self::CommandIgnoresCancellable, Err(Rejection::Commands { .. }))
+                if *core != before =>
+            {
+                Ok(Transition {
+                    rule: Rule::CommandApply,
                     retired: Vec::new(),
                 })
             }

@@ -29,7 +29,7 @@ pub mod witnesses;
 
 pub use fault::Fault;
 pub use ids::ModelError;
-pub use network::{NetBounds, NetworkModel};
+pub use network::{NetBounds, NetworkModel, Views};
 pub use rtc::{RtcBounds, RtcFault, RtcModel};
 pub use sequential::{Bounds, SequentialModel, Step};
 pub use trace::Trace;

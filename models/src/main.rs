@@ -6,6 +6,7 @@
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
 //!                            [--table adaptive|hashed]
+//! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--scenes N] ...
 //! cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
 //! cooperation-models replay  FILE
@@ -28,7 +29,7 @@ use cooperation_models::run::{Settings, Stop, Strategy};
 
 mod checks;
 mod reach;
-use cooperation_models::{Bounds, Fault, RtcFault, Trace};
+use cooperation_models::{Bounds, Fault, RtcFault, Trace, Views};
 use stateright::Model;
 
 #[global_allocator]
@@ -40,6 +41,8 @@ const USAGE: &str = "usage:
                              [--no-symmetry] [--fault NAME] [--out DIR]
                              [--timeout SECONDS] [--summary] [--keep-going]
                              [--memory-gib G] [--max-states N] [--table adaptive|hashed]
+  cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
+                             [--scenes N] [--threads T] [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
   cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
@@ -52,7 +55,11 @@ defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired o
 2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
 apply, that is when fewer retired identifiers are remembered than there are identifiers),
 counterexamples saved under target/counterexamples. --table hashed lays every state's scenes
-out in the hashed index from the first scene, under a colliding hash (same counts). The check stops at the first violated
+out in the hashed index from the first scene, under a colliding hash (same counts). The network
+model (breadth first) defaults to 2 scene identifiers, 2 operators and --views ids: status
+messages tell operators which scenes exist; --views statuses makes them carry the library's
+whole statuses, decisions included, and lets owners abort a scene (complete for --operators 1;
+with 2 operators it outgrows memory). The check stops at the first violated
 `always` property (--keep-going collects every violation), and stops incomplete, with a
 report and exit status 1, when the process reaches 16 GiB resident (--memory-gib) or 400
 million distinct states (--max-states), or the time limit. Exit status: 0 every property
@@ -78,6 +85,8 @@ pub(crate) struct Options {
     pub(crate) table: TableLayout,
     pub(crate) summary: bool,
     pub(crate) bytes: usize,
+    pub(crate) operators: usize,
+    pub(crate) views: Views,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -97,6 +106,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut table = TableLayout::Adaptive;
     let mut summary = false;
     let mut bytes = reach::TRIVIAL.bytes;
+    let mut operators = cooperation_models::network::OPERATORS;
+    let mut views = Views::Identifiers;
     let mut rest = args.iter();
     while let Some(flag) = rest.next() {
         if flag == "--no-symmetry" {
@@ -140,6 +151,14 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--out" => out = PathBuf::from(value),
             "--bytes" => bytes = number()?,
+            "--operators" => operators = number()?,
+            "--views" => {
+                views = match value.as_str() {
+                    "ids" => Views::Identifiers,
+                    "statuses" => Views::Statuses,
+                    other => return Err(format!("--views is ids or statuses, not {other:?}")),
+                };
+            }
             "--timeout" => {
                 stop.timeout = Some(std::time::Duration::from_secs(number()? as u64));
             }
@@ -200,6 +219,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
         table,
         summary,
         bytes,
+        operators,
+        views,
     })
 }
 

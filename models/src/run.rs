@@ -49,6 +49,8 @@ impl Checkable for crate::NetworkModel {
     fn trace(&self, property: &'static str, actions: Vec<crate::network::NetAction>) -> Trace {
         Trace::Network {
             bounds: self.bounds(),
+            operators: self.operators(),
+            views: self.views(),
             fault: self.fault(),
             property: property.to_owned(),
             actions,

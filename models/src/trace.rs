@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::describe::{describe, short};
 use crate::ids::ModelError;
-use crate::network::{NetAction, NetBounds, NetworkModel};
+use crate::network::{NetAction, NetBounds, NetworkModel, Seen, Views, OPERATORS};
 use crate::rtc::{Call, RtcBounds, RtcFault, RtcModel};
 use crate::sequential::{Bounds, SequentialModel};
 use crate::Fault;
@@ -36,6 +36,15 @@ pub enum Trace {
     Network {
         /// The model's bounds.
         bounds: NetBounds,
+        /// How many operators act (2 when absent).
+        #[serde(
+            default = "default_operators",
+            skip_serializing_if = "is_default_operators"
+        )]
+        operators: usize,
+        /// What status messages tell the operators (identifiers when absent).
+        #[serde(default, skip_serializing_if = "is_identifiers")]
+        views: Views,
         /// The injected fault, if the run was a sensitivity test.
         fault: Option<Fault>,
         /// The property the trace breaks.
@@ -133,11 +142,13 @@ impl Trace {
             }
             Self::Network {
                 bounds,
+                operators,
+                views,
                 fault,
                 property,
                 actions,
             } => {
-                let model = network(*bounds, *fault)?;
+                let model = network(*bounds, *operators, *views, *fault)?;
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
                 holds_at(&model, property, steps.last())
             }
@@ -181,21 +192,20 @@ impl Trace {
             }
             Self::Network {
                 bounds,
+                operators,
+                views,
                 fault,
                 actions,
                 ..
             } => {
-                let model = network(*bounds, *fault)?;
+                let model = network(*bounds, *operators, *views, *fault)?;
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
                 for (n, (action, step)) in actions.iter().zip(steps.iter().skip(1)).enumerate() {
                     let _ = writeln!(out, "{:>3}. {}", n + 1, model.describe(action));
                     rule_line(&mut out, step.last);
                     scenes(&mut out, &step.core, |id| step.core.merged_decision(id));
-                    for (k, view) in step.views.iter().enumerate() {
-                        let seen: Vec<String> = view
-                            .iter()
-                            .map(|s| format!("{} (incarnation {})", short(s.id), s.incarnation))
-                            .collect();
+                    for (k, view) in step.views.iter().enumerate().take(model.operators()) {
+                        let seen: Vec<String> = view.iter().map(seen).collect();
                         let _ = writeln!(out, "     operator {} sees [{}]", k + 1, seen.join(", "));
                     }
                 }
@@ -265,12 +275,17 @@ impl Trace {
             }
             Self::Network {
                 bounds,
+                operators,
+                views,
                 fault,
                 actions,
                 ..
             } => {
-                out += "    participant Module\n    participant Planner\n    participant Operator1 as Operator 1\n    participant Operator2 as Operator 2\n";
-                let model = network(*bounds, *fault)?;
+                out += "    participant Module\n    participant Planner\n    participant Operator1 as Operator 1\n";
+                let model = network(*bounds, *operators, *views, *fault)?;
+                if model.operators() > 1 {
+                    out += "    participant Operator2 as Operator 2\n";
+                }
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
                 for (action, step) in actions.iter().zip(steps.iter().skip(1)) {
                     let (from, to, arrow) = match action {
@@ -386,6 +401,42 @@ fn note(
     let _ = writeln!(out, "    Note over Planner: {verdict} — {scenes}");
 }
 
+const fn default_operators() -> usize {
+    OPERATORS
+}
+
+fn is_default_operators(operators: &usize) -> bool {
+    *operators == OPERATORS
+}
+
+fn is_identifiers(views: &Views) -> bool {
+    *views == Views::Identifiers
+}
+
+/// A scene in an operator's view: its identifier and incarnation, and its status if the view
+/// carries statuses.
+fn seen(seen: &Seen) -> String {
+    let Seen {
+        id,
+        incarnation,
+        status,
+    } = seen;
+    match status {
+        None => format!("{} (incarnation {incarnation})", short(*id)),
+        Some(status) => format!(
+            "{} (incarnation {incarnation}: module {}, operator {}, {})",
+            short(*id),
+            status.module_decision,
+            status.operator_decision,
+            if status.cancellable {
+                "cancellable"
+            } else {
+                "not cancellable"
+            }
+        ),
+    }
+}
+
 fn is_adaptive(table: &TableLayout) -> bool {
     *table == TableLayout::Adaptive
 }
@@ -404,8 +455,16 @@ fn sequential(
     })
 }
 
-fn network(bounds: NetBounds, fault: Option<Fault>) -> Result<NetworkModel, ReplayError> {
-    let model = NetworkModel::new(bounds).map_err(ReplayError::Model)?;
+fn network(
+    bounds: NetBounds,
+    operators: usize,
+    views: Views,
+    fault: Option<Fault>,
+) -> Result<NetworkModel, ReplayError> {
+    let model = NetworkModel::new(bounds)
+        .and_then(|model| model.with_operators(operators))
+        .map_err(ReplayError::Model)?
+        .with_views(views);
     Ok(match fault {
         Some(fault) => model.with_fault(fault),
         None => model,

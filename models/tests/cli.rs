@@ -110,3 +110,42 @@ fn bad_usage_exits_with_status_two() {
     let (code, _, _) = check("usage", &["--memory-gib", "lots"]);
     assert_eq!(code, Some(2));
 }
+
+/// A `--views` value the network model does not know is bad usage, said plainly.
+#[test]
+fn a_bad_views_value_is_bad_usage() {
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .args(["check", "--model", "network", "--views", "decisions"])
+        .output()
+        .expect("the checker runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--views is ids or statuses, not \"decisions\""),
+        "{stderr}"
+    );
+}
+
+/// So is a number of operators the network model cannot have.
+#[test]
+fn a_bad_operator_count_is_bad_usage() {
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .args(["check", "--model", "network", "--operators", "3"])
+        .output()
+        .expect("the checker runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("operators must be 1 to 2"), "{stderr}");
+}
+
+/// `--help` describes the network model's options.
+#[test]
+fn help_describes_the_network_options() {
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .arg("--help")
+        .output()
+        .expect("the checker runs");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("--operators 1|2"), "{stdout}");
+    assert!(stdout.contains("--views ids|statuses"), "{stdout}");
+}

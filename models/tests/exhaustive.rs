@@ -5,7 +5,7 @@
 //! it (see docs/verification.md).
 
 use cooperation_models::run::{check, Checkable, Report, Settings, Strategy};
-use cooperation_models::{Bounds, NetBounds, NetworkModel, SequentialModel};
+use cooperation_models::{Bounds, NetBounds, NetworkModel, SequentialModel, Views};
 
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
@@ -144,4 +144,33 @@ fn network_two_operators_two_scenes() {
     );
     assert_eq!(one.unique, 383_459);
     assert_eq!(two.unique, one.unique);
+}
+
+/// The network model with operator views carrying the library's whole statuses, decisions
+/// included, and owners that can abort: one operator, 2 scene identifiers; breadth first, the
+/// same with 1 and 2 threads. (Two operators with status views outgrow memory:
+/// `tests/network_measure.rs`.)
+#[test]
+fn network_one_operator_two_scenes_status_views() {
+    let model = NetworkModel::new(NetBounds { scenes: 2 })
+        .and_then(|model| model.with_operators(1))
+        .expect("valid bounds")
+        .with_views(Views::Statuses);
+    let settings = |threads| Settings {
+        threads,
+        strategy: Strategy::Bfs,
+        symmetry: false,
+    };
+    let one = passes(&model, settings(1));
+    let two = passes(&model, settings(2));
+    assert_eq!(one.unique, 1_115_316);
+    assert_eq!(two.unique, one.unique);
+    eprintln!(
+        "network 1 operator x 2 ids, status views: {} unique, {} generated; 1 thread {:.1} s, \
+         2 threads {:.1} s",
+        one.unique,
+        one.generated,
+        one.elapsed.as_secs_f64(),
+        two.elapsed.as_secs_f64()
+    );
 }

@@ -2,8 +2,10 @@
 //! (shortest) counterexample that replays to the violation from its JSON and passes against
 //! the shipped code.
 
+use cooperation::{OperatorDecision, SceneId};
+use cooperation_models::network::{reported, NetAction};
 use cooperation_models::run::{check, shortest, Settings, Strategy};
-use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace};
+use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace, Views};
 
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
@@ -62,6 +64,10 @@ fn expected(fault: Fault) -> (&'static str, Bounds) {
         Fault::CommandBroadcast => (
             "COOP-CMD-APPLY.1: a command changes only the operator decision it names",
             two_live,
+        ),
+        Fault::CommandIgnoresCancellable => (
+            "COOP-CMD-NOT-CANCELLABLE.1: when the spec's condition holds, this rule fires with the spec's outcome",
+            small,
         ),
     }
 }
@@ -137,4 +143,73 @@ fn network_faults_are_caught() {
             .unwrap_or_else(|| panic!("{fault:?} went unnoticed by {property:?}"));
         replays(fault, &trace);
     }
+}
+
+/// One operator told the library's whole statuses: the faults that get decisions wrong are
+/// caught by the network model's properties about decisions.
+fn with_statuses(fault: Fault) -> NetworkModel {
+    NetworkModel::new(NetBounds { scenes: 2 })
+        .and_then(|model| model.with_operators(1))
+        .expect("valid")
+        .with_views(Views::Statuses)
+        .with_fault(fault)
+}
+
+const NOT_CANCELLABLE: &str = "COOP-CMD-NOT-CANCELLABLE.1, COOP-CANCELLABLE.1 (network): a delivered command never changes the operator decision of a scene that is not cancellable";
+const AT_ONCE: &str = "COOP-CMD-APPLY.1, COOP-DEV-STORED-COMMANDS.1 (network): a delivered command takes effect at once, and one for an identifier that is not live changes nothing, then or later";
+
+/// A planner that applies commands to aborting scenes, one whose repeated command flips the
+/// decision, and one whose owner updates clear it (as a stored command re-applied at an unlock
+/// would change it) are each caught with status views.
+#[test]
+fn network_decision_faults_are_caught() {
+    let cases = [
+        (Fault::CommandIgnoresCancellable, NOT_CANCELLABLE),
+        (Fault::CommandToggles, AT_ONCE),
+        (Fault::OwnerClearsOperator, AT_ONCE),
+    ];
+    for (fault, property) in cases {
+        let trace = shortest(&with_statuses(fault), property)
+            .unwrap_or_else(|| panic!("{fault:?} went unnoticed by {property:?}"));
+        replays(fault, &trace);
+        let json = serde_json::to_string(&trace).expect("serializes");
+        assert!(json.contains("\"views\":\"statuses\""), "{json}");
+    }
+}
+
+/// The status property compares what a message carries with the library's statuses of the
+/// state it was sent from: a message that is stale for that state, or whose decision was
+/// altered, or that lacks its decisions, or a scene, fails it.
+#[test]
+fn coop_out_status_1_a_misreported_status_is_caught() {
+    let model = NetworkModel::new(NetBounds { scenes: 2 })
+        .and_then(|model| model.with_operators(1))
+        .expect("valid")
+        .with_views(Views::Statuses);
+    let id = SceneId::from_u128(1);
+    let actions = [
+        NetAction::Owner(0),
+        NetAction::Publish(0),
+        NetAction::Receive(0, 0),
+        NetAction::Send(0, id, OperatorDecision::Activate),
+        NetAction::Deliver(0, 0),
+    ];
+    let steps = model.replay(&actions).expect("replays");
+    assert_eq!(steps.len(), actions.len() + 1, "every action is enabled");
+    let (registered, published, delivered) = (&steps[1], &steps[2], &steps[5]);
+    let sent = &published.statuses[0][0].seen;
+    assert!(reported(&registered.core, sent, Views::Statuses));
+    // The same message judged against the state after the command: stale there.
+    assert!(!reported(&delivered.core, sent, Views::Statuses));
+    // A message whose operator decision was altered on the way.
+    let mut altered = sent.clone();
+    let status = altered[0].status.as_mut().expect("a status");
+    status.operator_decision = OperatorDecision::Deactivate;
+    assert!(!reported(&registered.core, &altered, Views::Statuses));
+    // A message without decisions, or without the scene.
+    let mut bare = sent.clone();
+    bare[0].status = None;
+    assert!(!reported(&registered.core, &bare, Views::Statuses));
+    assert!(reported(&registered.core, &bare, Views::Identifiers));
+    assert!(!reported(&registered.core, &[], Views::Statuses));
 }

@@ -1,13 +1,20 @@
-//! The network model: the planner and two operators as separate parties, with status and
-//! command messages in flight that are delayed, reordered, duplicated and lost.
+//! The network model: the planner and one or two operators as separate parties, with status
+//! and command messages in flight that are delayed, reordered, duplicated and lost.
 //!
 //! The planner holds the library's [`State`] and applies owner inputs and delivered commands
 //! through [`State::apply`] (or a [`Fault`] wrapper around it); the operators only hold
 //! what they were last told. Which messages exist and when they can be sent, delivered,
 //! duplicated or lost is the environment, modelled here; what a message does to the planner is
 //! the library's, and nothing of it is restated.
+//!
+//! What a status message tells an operator is the model's [`Views`]: which scenes exist (their
+//! identifiers), or their whole statuses as the library reports them, decisions included.
 
-use std::sync::OnceLock;
+mod properties;
+mod views;
+
+pub use properties::{properties, reported};
+pub use views::Views;
 
 use cooperation::{
     Behavior, Command, Config, CooperationStatus, Decision, Geometry, Input, Limits, Module,
@@ -16,12 +23,15 @@ use cooperation::{
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property, Representative};
 
+use properties::{observe_delivery, observe_owner, observe_publish, REJECTION_CHANGED};
+
 use crate::budget::Halt;
 use crate::describe::{describe, short};
 use crate::ids::{index, ModelError, MAX_SCENES};
 use crate::Fault;
 
-/// How many operators act at once.
+/// The most operators that act at once, and how many do unless the model says otherwise
+/// ([`NetworkModel::with_operators`]).
 pub const OPERATORS: usize = 2;
 /// How many status messages can be in flight to each operator.
 pub const STATUSES_IN_FLIGHT: usize = 1;
@@ -39,18 +49,17 @@ pub struct NetBounds {
 
 /// A scene as a status message tells of it: its identifier (taken from the planner's
 /// `CooperationStatus` list), with the incarnation of the identifier when it was sent (a history
-/// annotation: how many times that identifier had become live).
-///
-/// The decisions a status also carries are left out of the network model: which scene a
-/// command reaches, and when, is what this model is about, and the decisions' semantics are
-/// checked exhaustively by the sequential model. Leaving them out keeps the model small enough
-/// to check to completion.
+/// annotation: how many times that identifier had become live), and, with [`Views::Statuses`],
+/// the status itself.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct Seen {
     /// The scene.
     pub id: SceneId,
     /// The identifier's incarnation then.
     pub incarnation: u8,
+    /// The library's status of the scene when it was sent, with [`Views::Statuses`]; `None`
+    /// with [`Views::Identifiers`].
+    pub status: Option<CooperationStatus>,
 }
 
 /// A status list from the planner to an operator.
@@ -123,15 +132,12 @@ impl Representative for NetStep {
     }
 }
 
-const SPILLED: u8 = 1;
-const STALE_TOUCHED_NEW: u8 = 1 << 1;
-const SECOND_EFFECT: u8 = 1 << 2;
-const REJECTION_CHANGED: u8 = 1 << 3;
-
 /// The network model.
 #[derive(Clone, Debug)]
 pub struct NetworkModel {
     bounds: NetBounds,
+    operators: usize,
+    views: Views,
     fault: Option<Fault>,
     focus: Option<&'static str>,
     halt: Halt,
@@ -163,31 +169,11 @@ impl NetworkModel {
         let ids: Vec<SceneId> = (1..=bounds.scenes as u128)
             .map(SceneId::from_u128)
             .collect();
-        let geometry = Geometry::velocity(0.0);
-        let mut owner = Vec::new();
-        for &id in &ids {
-            let decision = Decision::Deactivate;
-            owner.push(Input::Register {
-                id,
-                module: MODULE,
-                decision,
-                requested: false,
-                geometry,
-            });
-            for phase in [Phase::Running, Phase::Succeeded] {
-                let decision = Decision::Activate;
-                owner.push(Input::Update {
-                    id,
-                    module: MODULE,
-                    phase,
-                    decision,
-                    requested: false,
-                    geometry,
-                });
-            }
-        }
+        let owner = owner_inputs(&ids, Views::Identifiers);
         Ok(Self {
             bounds,
+            operators: OPERATORS,
+            views: Views::Identifiers,
             fault: None,
             focus: None,
             halt: Halt::new(),
@@ -195,6 +181,30 @@ impl NetworkModel {
             ids,
             owner,
         })
+    }
+
+    /// The same model with `operators` operators (1 or 2; 2 unless said).
+    ///
+    /// # Errors
+    /// If `operators` is not 1 or 2.
+    pub fn with_operators(mut self, operators: usize) -> Result<Self, ModelError> {
+        if !(1..=OPERATORS).contains(&operators) {
+            return Err(ModelError::Bounds(format!(
+                "operators must be 1 to {OPERATORS}"
+            )));
+        }
+        self.operators = operators;
+        Ok(self)
+    }
+
+    /// The same model telling operators `views` (identifiers unless said). With
+    /// [`Views::Statuses`], an owner can also abort a scene, so that statuses can say a scene
+    /// is not cancellable.
+    #[must_use]
+    pub fn with_views(mut self, views: Views) -> Self {
+        self.views = views;
+        self.owner = owner_inputs(&self.ids, views);
+        self
     }
 
     /// The same model with a deliberately wrong behaviour injected.
@@ -222,6 +232,18 @@ impl NetworkModel {
     #[must_use]
     pub const fn bounds(&self) -> NetBounds {
         self.bounds
+    }
+
+    /// How many operators act.
+    #[must_use]
+    pub const fn operators(&self) -> usize {
+        self.operators
+    }
+
+    /// What status messages tell the operators.
+    #[must_use]
+    pub const fn views(&self) -> Views {
+        self.views
     }
 
     /// The injected fault, if any.
@@ -323,9 +345,36 @@ impl NetworkModel {
                 Seen {
                     id: status.id,
                     incarnation,
+                    status: (self.views == Views::Statuses).then_some(status),
                 }
             })
             .collect()
+    }
+
+    /// The views of the operators that act (the model's first [`Self::operators`]).
+    fn views_of<'a>(&self, step: &'a NetStep) -> impl Iterator<Item = &'a Vec<Seen>> {
+        step.views.iter().take(self.operators)
+    }
+
+    /// The commands operator `k` can send from its view: with identifier views, operator 1
+    /// approves and operator 2 holds back (two operators acting at once disagree); with status
+    /// views, an operator acts on each scene it sees cancellable, deciding the opposite of the
+    /// operator decision it sees.
+    fn commands_from(&self, k: usize, view: &[Seen], actions: &mut Vec<NetAction>) {
+        for seen in view {
+            let decision = match (self.views, seen.status) {
+                (Views::Identifiers, _) if k == 0 => OperatorDecision::Activate,
+                (Views::Identifiers, _) => OperatorDecision::Deactivate,
+                (Views::Statuses, Some(status)) if status.cancellable => {
+                    match status.operator_decision {
+                        OperatorDecision::Activate => OperatorDecision::Deactivate,
+                        _ => OperatorDecision::Activate,
+                    }
+                }
+                (Views::Statuses, _) => continue,
+            };
+            actions.push(NetAction::Send(k, seen.id, decision));
+        }
     }
 
     /// Applies a planner input and records what changed.
@@ -381,7 +430,7 @@ impl Model for NetworkModel {
         }
         actions.extend((0..self.owner.len()).map(NetAction::Owner));
         let room = step.commands.iter().map(Vec::len).sum::<usize>() < COMMANDS_IN_FLIGHT;
-        for k in 0..OPERATORS {
+        for k in 0..self.operators {
             let statuses = step.statuses.get(k).map_or(0, Vec::len);
             let commands = step.commands.get(k).map_or(0, Vec::len);
             if statuses < STATUSES_IN_FLIGHT {
@@ -392,17 +441,8 @@ impl Model for NetworkModel {
                 actions.push(NetAction::ReceiveDuplicate(k, m));
                 actions.push(NetAction::LoseStatus(k, m));
             }
-            if room {
-                // Operator 1 approves, operator 2 holds back: two operators acting at once
-                // disagree.
-                let decision = if k == 0 {
-                    OperatorDecision::Activate
-                } else {
-                    OperatorDecision::Deactivate
-                };
-                for seen in step.views.get(k).into_iter().flatten() {
-                    actions.push(NetAction::Send(k, seen.id, decision));
-                }
+            if let (true, Some(view)) = (room, step.views.get(k)) {
+                self.commands_from(k, view, actions);
             }
             for m in 0..commands {
                 actions.push(NetAction::Deliver(k, m));
@@ -425,12 +465,14 @@ impl Model for NetworkModel {
             NetAction::Owner(i) => {
                 let input = self.owner.get(i)?;
                 let _ = self.planner(from, &mut next, input);
+                observe_owner(from, &mut next);
             }
             NetAction::Publish(k) => {
                 let message = StatusMessage {
                     seen: self.snapshot(from),
                     fresh: true,
                 };
+                observe_publish(self, from, &mut next, &message);
                 let channel = next.statuses.get_mut(k)?;
                 channel.push(message);
                 channel.sort();
@@ -492,6 +534,7 @@ impl Model for NetworkModel {
 
     fn properties(&self) -> Vec<Property<Self>> {
         let mut all = properties();
+        all.retain(|p| properties::applies(self, p.name));
         if let Some(focus) = self.focus {
             all.retain(|p| p.name == focus);
         }
@@ -499,141 +542,37 @@ impl Model for NetworkModel {
     }
 }
 
-/// The step properties of a delivered command, recorded as sticky flags.
-fn observe_delivery(
-    from: &NetStep,
-    next: &mut NetStep,
-    message: &CommandMessage,
-    input: &Input,
-    result: &Result<Transition, Rejection>,
-    model: &NetworkModel,
-) {
-    let id = message.command.id;
-    // Only the named scene's operator decision may change.
-    let spilled = from.core.scenes().any(|(other, old)| {
-        let new = next.core.scene(other);
-        let operator_moved =
-            new.map(cooperation::Scene::operator_decision) != Some(old.operator_decision());
-        let rest_moved = match new {
-            None => true,
-            Some(new) => {
-                new.phase() != old.phase()
-                    || new.module_decision() != old.module_decision()
-                    || new.age_ms() != old.age_ms()
-            }
-        };
-        rest_moved || (operator_moved && other != id)
-    }) || from.core.scene_count() != next.core.scene_count();
-    if spilled {
-        next.broken |= SPILLED;
+/// The scene owner's inputs: each identifier registers (its module declines), runs (its module
+/// goes on) and completes; with status views it can also abort (its module declines), which
+/// makes it not cancellable.
+fn owner_inputs(ids: &[SceneId], views: Views) -> Vec<Input> {
+    let geometry = Geometry::velocity(0.0);
+    let mut updates = vec![
+        (Phase::Running, Decision::Activate),
+        (Phase::Succeeded, Decision::Activate),
+    ];
+    if views == Views::Statuses {
+        updates.push((Phase::Aborting, Decision::Deactivate));
     }
-    // A command built from a view of an earlier incarnation never changes a later one.
-    let changed = from
-        .core
-        .scene(id)
-        .map(cooperation::Scene::operator_decision)
-        != next
-            .core
-            .scene(id)
-            .map(cooperation::Scene::operator_decision)
-        || (from.core.scene(id).is_none() && next.core.scene(id).is_some());
-    let current = index(id)
-        .and_then(|i| next.incarnation.get(i))
-        .copied()
-        .unwrap_or(0);
-    if changed && current != message.incarnation {
-        next.broken |= STALE_TOUCHED_NEW;
-    }
-    // Applying it again at once has no second effect.
-    if result.is_ok() {
-        let (again, _) = model.transition(&next.core, input);
-        if again != next.core {
-            next.broken |= SECOND_EFFECT;
+    let mut owner = Vec::new();
+    for &id in ids {
+        owner.push(Input::Register {
+            id,
+            module: MODULE,
+            decision: Decision::Deactivate,
+            requested: false,
+            geometry,
+        });
+        for &(phase, decision) in &updates {
+            owner.push(Input::Update {
+                id,
+                module: MODULE,
+                phase,
+                decision,
+                requested: false,
+                geometry,
+            });
         }
     }
-}
-
-type Condition = fn(&NetworkModel, &NetStep) -> bool;
-
-fn unbroken<const FLAG: u8>(_: &NetworkModel, step: &NetStep) -> bool {
-    step.broken & FLAG == 0
-}
-
-/// A view sent after the planner's last change is exactly the planner's statuses.
-fn fresh_views_are_current(model: &NetworkModel, step: &NetStep) -> bool {
-    let current = model.snapshot(step);
-    step.views
-        .iter()
-        .zip(step.fresh)
-        .all(|(view, fresh)| !fresh || *view == current)
-}
-
-fn invariants_hold(_: &NetworkModel, step: &NetStep) -> bool {
-    step.core.check_invariants().is_ok()
-}
-
-/// Witness: with nothing in flight, both operators see the planner as it is.
-fn views_converge(model: &NetworkModel, step: &NetStep) -> bool {
-    let current = model.snapshot(step);
-    let quiet = step.statuses.iter().all(Vec::is_empty) && step.commands.iter().all(Vec::is_empty);
-    quiet && !current.is_empty() && step.views.iter().all(|view| *view == current)
-}
-
-/// Witness: a command is in flight for a scene that has completed.
-fn completes_with_command_in_flight(_: &NetworkModel, step: &NetStep) -> bool {
-    step.commands.iter().flatten().any(|m| {
-        step.core
-            .retirement(m.command.id)
-            .is_some_and(|r| r.reason == cooperation::RetireReason::Succeeded)
-    })
-}
-
-/// Witness: a new scene is live while a command for another one is in flight.
-fn registers_with_command_in_flight(_: &NetworkModel, step: &NetStep) -> bool {
-    step.commands.iter().flatten().any(|m| {
-        step.core.scenes().any(|(id, _)| id != m.command.id)
-            && index(m.command.id)
-                .and_then(|i| step.incarnation.get(i))
-                .is_some_and(|n| *n > 0)
-    })
-}
-
-/// Witness: both operators have a command in flight.
-fn two_operators_at_once(_: &NetworkModel, step: &NetStep) -> bool {
-    step.commands.iter().all(|channel| !channel.is_empty())
-}
-
-/// Witness: a command reaches the planner after its scene retired, and is refused.
-fn late_command_refused(_: &NetworkModel, step: &NetStep) -> bool {
-    step.last == Some(Rule::CommandRetired)
-}
-
-/// Every property of the network model.
-#[must_use]
-pub fn properties() -> Vec<Property<NetworkModel>> {
-    static ALL: OnceLock<Vec<(bool, &'static str, Condition)>> = OnceLock::new();
-    ALL.get_or_init(|| {
-        vec![
-            (true, "COOP-CMD-APPLY.1 (network): a command affects only the scene it names", unbroken::<SPILLED>),
-            (true, "COOP-REG-RETIRED.1 (network): a command built from a stale status never touches a newer scene", unbroken::<STALE_TOUCHED_NEW>),
-            (true, "COOP-CMD-APPLY.1 (network): a duplicated command has no second effect", unbroken::<SECOND_EFFECT>),
-            (true, "spec §4 (network): a rejected input changes nothing", unbroken::<REJECTION_CHANGED>),
-            (true, "COOP-OUT-STATUS.1 (network): a view sent since the planner's last change is its current status", fresh_views_are_current),
-            (true, "COOP-INV-* (network): State::check_invariants holds", invariants_hold),
-            (false, "witness: the operators' views converge once messages stop", views_converge),
-            (false, "witness: a scene completes while a command for it is in flight", completes_with_command_in_flight),
-            (false, "witness: a new scene registers while a command for another is in flight", registers_with_command_in_flight),
-            (false, "witness: two operators have commands in flight at once", two_operators_at_once),
-            (false, "witness: a command arrives after its scene retired and is refused", late_command_refused),
-        ]
-    })
-    .iter()
-    .map(|&(always, name, condition)| {
-        if always {
-            Property::always(name, condition)
-        } else {
-            Property::sometimes(name, condition)
-        }
-    })
-    .collect()
+    owner
 }
