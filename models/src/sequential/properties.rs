@@ -118,6 +118,29 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
             .all(|(id, retirement)| core.retirement(id) == Some(retirement))
 }
 
+/// `State::relabel`, which symmetry reduction relies on: renaming by the identity gives the
+/// state back, swapping two identifiers in use twice gives it back, and a rename that merges
+/// two identifiers in use is refused.
+fn relabel_is_a_renaming(_: &SequentialModel, step: &Step) -> bool {
+    let core: &State = &step.core;
+    let mut ids: Vec<SceneId> = core.scenes().map(|(id, _)| id).collect();
+    ids.extend(core.retirements().map(|(id, _)| id));
+    let identity = core.relabel(|id| id).as_ref() == Some(core);
+    let (Some(&a), Some(&b)) = (ids.first(), ids.get(1)) else {
+        return identity;
+    };
+    let swap = |id: SceneId| match id {
+        x if x == a => b,
+        x if x == b => a,
+        x => x,
+    };
+    let swapped_back = core
+        .relabel(swap)
+        .and_then(|once| once.relabel(swap))
+        .is_some_and(|twice| twice == *core);
+    identity && swapped_back && core.relabel(|_| a).is_none()
+}
+
 /// `[COOP-OUT-ORDER.1]`'s order of distances, from its text: ascending, every NaN, of either
 /// sign, last (NaNs in the order of their bits, positive ones first).
 fn spec_distance_order(a: f32, b: f32) -> Ordering {
@@ -305,6 +328,10 @@ fn always() -> Vec<(&'static str, Condition)> {
         (
             "spec §3: the state's queries agree with one another",
             queries_agree,
+        ),
+        (
+            "spec §3: renaming identifiers (symmetry) keeps the state and refuses merging two",
+            relabel_is_a_renaming,
         ),
         (
             "COOP-OUT-ORDER.1: each factor list holds every live scene of its kind once, by distance and then identifier",
