@@ -4,7 +4,9 @@
 //! default tests check one operator with status views and two with identifier views
 //! (`tests/exhaustive.rs`); this run says how many states the search reached by its cap.
 //!
-//! Measured (2 threads, on a loaded 2-core machine): at the 10 million state cap, depth 17 of a
+//! Measured before the network model dropped its freshness flags (which made 2 operators with
+//! identifier views 2.4 times larger, and 1 operator with status views 5 % larger), on 2 threads
+//! on a loaded 2-core machine: at the 10 million state cap, depth 17 of a
 //! space whose one-operator version is 42 deep, 94.9 million generated, 142.5 s, 8.52 GiB
 //! resident, no property violated. Uncapped, `check --model network --operators 2 --views
 //! statuses --memory-gib 12` stopped at 12 GiB with 15,805,905 states, depth 18, in 191 s.

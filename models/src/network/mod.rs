@@ -67,8 +67,6 @@ pub struct Seen {
 pub struct StatusMessage {
     /// The planner's statuses when it was sent.
     pub seen: Vec<Seen>,
-    /// The planner has not changed since it was sent.
-    pub fresh: bool,
 }
 
 /// A command from an operator to the planner, built from the operator's view.
@@ -113,8 +111,6 @@ pub struct NetStep {
     pub last: Option<Rule>,
     /// What each operator was last told.
     pub views: [Vec<Seen>; OPERATORS],
-    /// Whether each operator's view was sent after the planner's last change.
-    pub fresh: [bool; OPERATORS],
     /// Status messages in flight to each operator (a multiset, sorted).
     pub statuses: [Vec<StatusMessage>; OPERATORS],
     /// Command messages in flight from each operator (a multiset, sorted).
@@ -268,7 +264,6 @@ impl NetworkModel {
             core,
             last: None,
             views: Default::default(),
-            fresh: [false; OPERATORS],
             statuses: Default::default(),
             commands: Default::default(),
             incarnation: [0; MAX_SCENES],
@@ -402,14 +397,6 @@ impl NetworkModel {
                     *count = count.saturating_add(1).min(3);
                 }
             }
-            // Whatever was sent before this change no longer describes the planner.
-            next.fresh = [false; OPERATORS];
-            for channel in &mut next.statuses {
-                for message in channel.iter_mut() {
-                    message.fresh = false;
-                }
-                channel.sort();
-            }
         }
         next.core = core;
         result
@@ -470,7 +457,6 @@ impl Model for NetworkModel {
             NetAction::Publish(k) => {
                 let message = StatusMessage {
                     seen: self.snapshot(from),
-                    fresh: true,
                 };
                 observe_publish(self, from, &mut next, &message);
                 let channel = next.statuses.get_mut(k)?;
@@ -482,7 +468,6 @@ impl Model for NetworkModel {
                 (m < channel.len()).then_some(())?;
                 let message = channel.remove(m);
                 *next.views.get_mut(k)? = message.seen;
-                *next.fresh.get_mut(k)? = message.fresh;
             }
             NetAction::Send(k, id, decision) => {
                 let incarnation = from.views.get(k)?.iter().find(|s| s.id == id)?.incarnation;
@@ -506,7 +491,6 @@ impl Model for NetworkModel {
             NetAction::ReceiveDuplicate(k, m) => {
                 let message = from.statuses.get(k)?.get(m)?.clone();
                 *next.views.get_mut(k)? = message.seen;
-                *next.fresh.get_mut(k)? = message.fresh;
             }
             NetAction::DuplicateCommand(k, m) => {
                 let channel = next.commands.get_mut(k)?;

@@ -149,15 +149,6 @@ fn unbroken<const FLAG: u8>(_: &NetworkModel, step: &NetStep) -> bool {
     step.broken & FLAG == 0
 }
 
-/// A view sent after the planner's last change is exactly the planner's statuses.
-fn fresh_views_are_current(model: &NetworkModel, step: &NetStep) -> bool {
-    let current = model.snapshot(step);
-    step.views
-        .iter()
-        .zip(step.fresh)
-        .all(|(view, fresh)| !fresh || *view == current)
-}
-
 fn invariants_hold(_: &NetworkModel, step: &NetStep) -> bool {
     step.core.check_invariants().is_ok()
 }
@@ -224,7 +215,6 @@ pub fn properties() -> Vec<Property<NetworkModel>> {
             (true, "COOP-REG-RETIRED.1 (network): a command built from a stale status never touches a newer scene", unbroken::<STALE_TOUCHED_NEW>),
             (true, "COOP-CMD-APPLY.1 (network): a duplicated command has no second effect", unbroken::<SECOND_EFFECT>),
             (true, "spec §4 (network): a rejected input changes nothing", unbroken::<REJECTION_CHANGED>),
-            (true, "COOP-OUT-STATUS.1 (network): a view sent since the planner's last change is its current status", fresh_views_are_current),
             (true, "COOP-INV-* (network): State::check_invariants holds", invariants_hold),
             (true, STATUS_RECEIVED, unbroken::<MISREPORTED>),
             (true, "COOP-CMD-NOT-CANCELLABLE.1, COOP-CANCELLABLE.1 (network): a delivered command never changes the operator decision of a scene that is not cancellable", unbroken::<NOT_CANCELLABLE_CHANGED>),
