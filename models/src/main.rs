@@ -1,7 +1,7 @@
 //! `cooperation-models`: the exhaustive model check of the cooperation core.
 //!
 //! ```text
-//! cooperation-models check   [--model sequential|network] [--modules M] [--scenes N] [--live L] [--retired R]
+//! cooperation-models check   [--model sequential|network|rtc] [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
@@ -36,7 +36,7 @@ use stateright::Model;
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 const USAGE: &str = "usage:
-  cooperation-models check   [--model sequential|network] [--modules M] [--scenes N]
+  cooperation-models check   [--model sequential|network|rtc] [--modules M] [--scenes N]
                              [--live L] [--retired R] [--threads T] [--strategy dfs|bfs]
                              [--no-symmetry] [--fault NAME] [--out DIR]
                              [--timeout SECONDS] [--summary] [--keep-going]
@@ -317,7 +317,12 @@ fn main() -> ExitCode {
         faults.join(", "),
         rtc.join(", ")
     );
+    let asks_for_help = args.iter().any(|arg| arg == "--help" || arg == "-h");
     let result = match args.split_first() {
+        _ if asks_for_help => {
+            println!("{usage}");
+            Ok(true)
+        }
         Some((command, rest)) if command == "check" => parse(rest).and_then(|o| checks::run(&o)),
         Some((command, rest)) if command == "reach" => reach::run(rest),
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
@@ -325,7 +330,7 @@ fn main() -> ExitCode {
         Some((command, rest)) if command == "diagrams" => diagrams(rest),
         Some((command, rest)) if command == "traceability" => traceability(rest),
         Some((command, rest)) if command == "witnesses" => witnesses(rest),
-        Some((command, _)) if command == "help" || command == "--help" => {
+        Some((command, _)) if command == "help" => {
             println!("{usage}");
             Ok(true)
         }

@@ -149,3 +149,26 @@ fn help_describes_the_network_options() {
     assert!(stdout.contains("--operators 1|2"), "{stdout}");
     assert!(stdout.contains("--views ids|statuses"), "{stdout}");
 }
+
+/// `--help` after a command, or `-h`, prints the usage and succeeds, rather than reading as an
+/// option that lacks a value.
+#[test]
+fn help_after_a_command_prints_the_usage() {
+    for args in [
+        &["check", "--help"][..],
+        &["reach", "-h"],
+        &["check", "--model", "rtc", "-h"],
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+            .args(args)
+            .output()
+            .expect("the checker runs");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert_eq!(output.status.code(), Some(0), "{args:?}: {stdout}");
+        assert!(stdout.contains("usage:"), "{args:?}: {stdout}");
+        assert!(
+            stdout.contains("--model sequential|network|rtc"),
+            "{stdout}"
+        );
+    }
+}
