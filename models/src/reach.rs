@@ -87,7 +87,33 @@ const QUICK: &[Config] = &[
         &["--scenes", "2", "--no-symmetry"],
     ),
     config("sequential", "2 × 3 (CI)", "DFS, symmetry", &[]),
-    config("network", "2 ids", "BFS", &["--model", "network"]),
+    config(
+        "sequential, hashed table",
+        "2 × 3 (CI)",
+        "DFS, symmetry",
+        &["--table", "hashed"],
+    ),
+    config(
+        "sequential, hashed table",
+        "1 × 3 (CI)",
+        "BFS",
+        &["--modules", "1", "--table", "hashed", "--no-symmetry"],
+    ),
+    config("rtc", "2 × 3 (CI)", "DFS, symmetry", &["--model", "rtc"]),
+    config("network", "2 ids (CI)", "BFS", &["--model", "network"]),
+    config(
+        "network, 1 operator, status views",
+        "2 ids (CI)",
+        "BFS",
+        &[
+            "--model",
+            "network",
+            "--operators",
+            "1",
+            "--views",
+            "statuses",
+        ],
+    ),
 ];
 
 /// The larger configurations `--full` adds, on 2 threads, each stopped after `timeout_s`.
