@@ -121,11 +121,18 @@ impl RtcModel {
                 "the live and retired limits must be at least 1".into(),
             ));
         }
-        let standard = Binding::standard();
+        // Upstream's interfaces, as the adapter ships them, by name.
+        let standard = Rtc::standard();
         let bindings: Vec<Binding> = INTERFACES
             .iter()
             .take(interfaces)
-            .filter_map(|name| standard.iter().find(|b| b.name == *name).cloned())
+            .filter_map(|name| {
+                standard
+                    .bindings()
+                    .iter()
+                    .find(|b| b.name == *name)
+                    .cloned()
+            })
             .collect();
         let rtc = Rtc::new(bindings.clone()).map_err(|e| ModelError::Bounds(e.to_string()))?;
         let limits = Limits {

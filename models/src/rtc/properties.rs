@@ -199,6 +199,16 @@ fn auto_mode_is_policy(model: &RtcModel, step: &RtcStep) -> bool {
         })
 }
 
+/// Before any call, every bound module's policy is optional: the model builds its
+/// configuration with `Rtc::policies(false)`, upstream's `enable_rtc = false` (auto mode on).
+fn starts_in_auto_mode(model: &RtcModel, step: &RtcStep) -> bool {
+    step.last.is_some()
+        || model
+            .bindings()
+            .iter()
+            .all(|binding| step.core.policy(binding.module) == Some(Policy::Optional))
+}
+
 /// `check(view, scene, activated)` for every live scene through the interface that owns it.
 fn every_scene(
     model: &RtcModel,
@@ -363,7 +373,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
 
 /// The state properties, by name. Each reads the core and the adapter only, so a stalled step
 /// (the same states as its predecessor, already checked) needs no check again.
-const STATES: [(&str, Condition); 12] = [
+const STATES: [(&str, Condition); 13] = [
         ("COOP-DEV-ID-REUSE.1: each remembered identifier is routed to the interface that registered it", routed_to_registrar),
         ("COOP-OUT-STATUS.1, COOP-DEV-NONE.1: each interface's status array lists exactly its live scenes, with the core's values", statuses_are_the_cores),
         ("COOP-DEV-ORDER.1, COOP-DEV-ROUTING.1: the external status array lists every interface's live scenes, nearest start first", external_statuses),
@@ -371,6 +381,7 @@ const STATES: [(&str, Condition); 12] = [
         ("COOP-DEV-FORCE.1: the force flags are the core's and agree with is_activated", force_flags_agree),
         ("COOP-DEV-UNKNOWN-QUERY.1, COOP-DEV-TERMINAL.1 (upstream test steps 1, 3, 6, 10): is_registered, is_rtc_enabled and is_terminated answer for the interface's own scenes only", queries_say_so),
         ("COOP-DEV-AUTO-MODE-KEY.1: every interface's auto-mode status is its module's policy", auto_mode_is_policy),
+        ("COOP-DEV-AUTO-MODE-KEY.1 (docs/rtc.md): with upstream's enable_rtc = false, as the model is configured, every interface starts in auto mode", starts_in_auto_mode),
         ("COOP-MERGE.1 (upstream test steps 2, 4): under auto mode an undecided scene not requested is activated exactly when safe", auto_mode_follows_safe),
         ("COOP-REQUESTED.1 (upstream test step 11): a requested scene with no operator decision is not activated", requested_held_back),
         ("COOP-FORCE-ACTIVATED.1 (upstream test steps 5, 12): a cancellable scene the operator activated is activated, forced exactly when unsafe or requested", activate_command),
@@ -390,7 +401,7 @@ fn state<const I: usize>(model: &RtcModel, step: &RtcStep) -> bool {
 #[must_use]
 pub fn properties() -> Vec<Property<RtcModel>> {
     let answers = per_index!(answered: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30);
-    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11);
+    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12);
     let mut properties: Vec<Property<RtcModel>> = steps()
         .into_iter()
         .map(|(name, condition)| Property::always(name, condition))
