@@ -93,7 +93,10 @@ fn sequential() {
     satisfied(&model, bfs, &[]);
 }
 
-/// The RTC adapter model, two interfaces, two identifiers both live at once.
+/// The RTC adapter model, two interfaces, two identifiers both live at once; and with four
+/// identifiers, one live and a retired set of one, so that the core forgets and the adapter
+/// must prune its routes to stay within its bound (breadth first, without symmetry: the
+/// retirement order matters).
 #[test]
 fn rtc() {
     let bounds = RtcBounds {
@@ -105,6 +108,25 @@ fn rtc() {
         &model,
         SETTINGS,
         &["COOP-REG-FULL.1: an update beyond the scene limit is refused"],
+    );
+    let forgetting = RtcBounds {
+        live: 1,
+        retired: 1,
+        ..RtcBounds::new(2, 4)
+    };
+    let model = RtcModel::new(forgetting).expect("valid");
+    let bfs = Settings {
+        strategy: Strategy::Bfs,
+        symmetry: false,
+        threads: 1,
+    };
+    satisfied(
+        &model,
+        bfs,
+        &[
+            "COOP-OWN-REMOVE.1: a clear retires two scenes",
+            "witness: two interfaces have live scenes at once",
+        ],
     );
 }
 

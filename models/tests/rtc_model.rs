@@ -103,13 +103,14 @@ fn two_interfaces_two_scenes_without_symmetry() {
 }
 
 /// A retired set smaller than the identifiers: the core forgets the oldest retirements, and an
-/// identifier another interface registered may register again; the routes follow (no
-/// symmetry, since the retirement order matters).
+/// identifier another interface registered may register again; the routes follow, and stay
+/// within their bound with four identifiers to outgrow it (no symmetry, since the retirement
+/// order matters).
 #[test]
 fn forgetting_retired_identifiers() {
     let bounds = RtcBounds {
         interfaces: 2,
-        scenes: 2,
+        scenes: 4,
         live: 1,
         retired: 1,
     };

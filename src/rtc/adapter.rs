@@ -152,6 +152,15 @@ impl Rtc {
         remembered.then(|| self.bindings.get(index)).flatten()
     }
 
+    /// How many identifiers the adapter keeps a route for. Routes of identifiers the core has
+    /// forgotten are pruned, so this never exceeds what the core can remember plus one
+    /// (`Limits::max_scenes + Limits::retired_capacity + 1`): the adapter's memory is bounded
+    /// as the core's is.
+    #[must_use]
+    pub fn route_count(&self) -> usize {
+        self.routes.len()
+    }
+
     /// Time passed: the core's `Tick`. Upstream's `removeExpiredCooperateStatus` compares each
     /// status's stamp with a clock; here the caller says how much time passed, and the
     /// transition lists the scenes that expired (`[COOP-DEV-EXPIRY.1]`).

@@ -199,6 +199,12 @@ fn auto_mode_is_policy(model: &RtcModel, step: &RtcStep) -> bool {
         })
 }
 
+/// The adapter's memory is bounded as the core's is: `Rtc::route_count`'s promise.
+fn routes_bounded(_: &RtcModel, step: &RtcStep) -> bool {
+    let limits = step.core.limits();
+    step.rtc.route_count() <= limits.max_scenes + limits.retired_capacity + 1
+}
+
 /// Before any call, every bound module's policy is optional: the model builds its
 /// configuration with `Rtc::policies(false)`, upstream's `enable_rtc = false` (auto mode on).
 fn starts_in_auto_mode(model: &RtcModel, step: &RtcStep) -> bool {
@@ -373,8 +379,9 @@ fn steps() -> Vec<(&'static str, Condition)> {
 
 /// The state properties, by name. Each reads the core and the adapter only, so a stalled step
 /// (the same states as its predecessor, already checked) needs no check again.
-const STATES: [(&str, Condition); 13] = [
+const STATES: [(&str, Condition); 14] = [
         ("COOP-DEV-ID-REUSE.1: each remembered identifier is routed to the interface that registered it", routed_to_registrar),
+        ("COOP-DEV-ID-REUSE.1: the adapter keeps routes for no more identifiers than the core can remember plus one", routes_bounded),
         ("COOP-OUT-STATUS.1, COOP-DEV-NONE.1: each interface's status array lists exactly its live scenes, with the core's values", statuses_are_the_cores),
         ("COOP-DEV-ORDER.1, COOP-DEV-ROUTING.1: the external status array lists every interface's live scenes, nearest start first", external_statuses),
         ("COOP-MERGE.1: is_activated is the core's merged decision, and false for another interface's scene", activated_is_merged),
@@ -401,7 +408,7 @@ fn state<const I: usize>(model: &RtcModel, step: &RtcStep) -> bool {
 #[must_use]
 pub fn properties() -> Vec<Property<RtcModel>> {
     let answers = per_index!(answered: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30);
-    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12);
+    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12 13);
     let mut properties: Vec<Property<RtcModel>> = steps()
         .into_iter()
         .map(|(name, condition)| Property::always(name, condition))

@@ -199,11 +199,13 @@ pub type Interface = u8;
 /// live scenes and retirements, each identifier's route as [`Rtc::owner`] answers it, the last
 /// outcome (where [`shows_last`](Self::shows_last)), the history and the fault's memory; a
 /// digest of the core's and the adapter's parts is computed once per step, with a fixed-seed
-/// foldhash (several times cheaper than the checker's own hasher, and as deterministic). Two
-/// things are left out because no call can observe them: the order in which identifiers retired, while the retired set remembers every
-/// identifier (nothing is ever forgotten, so the order never matters), and routes the adapter
-/// keeps for identifiers the core has forgotten (every query and call looks a route up only for
-/// an identifier the core remembers).
+/// foldhash (several times cheaper than the checker's own hasher, and as deterministic). The
+/// order in which identifiers retired is left out while the retired set remembers every
+/// identifier (nothing is ever forgotten, so the order never matters). Routes the adapter keeps
+/// for identifiers the core has forgotten are invisible to every query and call (each looks a
+/// route up only for an identifier the core remembers), but they are memory the adapter must
+/// bound: where the core forgets, the hash reads how many routes the adapter keeps, so that a
+/// state reached with more of them is checked too.
 #[derive(Clone, Debug)]
 pub struct RtcStep {
     /// The core's state.
@@ -332,13 +334,16 @@ impl RtcStep {
 
     fn digest(&self) -> Digest {
         let policies: Vec<_> = self.core.policies().collect();
-        let order: Vec<SceneId> = if self.order_matters {
-            self.core.retired().map(|(id, _)| id).collect()
+        // Where the core forgets, how many routes the adapter keeps (stale ones included) is
+        // part of the state, so that its bound is checked on every way of reaching a state.
+        let (order, routes): (Vec<SceneId>, usize) = if self.order_matters {
+            let order = self.core.retired().map(|(id, _)| id).collect();
+            (order, self.rtc.route_count())
         } else {
-            Vec::new()
+            (Vec::new(), 0)
         };
         Digest {
-            rest: digest_of(&(policies, order)),
+            rest: digest_of(&(policies, order, routes)),
             ids: self.signatures().map(|signature| digest_of(&signature)),
         }
     }
