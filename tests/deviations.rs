@@ -418,7 +418,7 @@ fn coop_dev_register_phase_1() {
         .update_cooperate_status(id(2), true, rtc::State::FAILED, 5.0, 40.0, false)
         .expect("registers and fails");
     assert_eq!(transitions.last().map(|t| t.rule), Some(Rule::OwnerFinish));
-    assert_eq!(lane_change.is_terminated(id(2)), Some(true));
+    assert_eq!(lane_change.view().is_terminated(id(2)), Some(true));
     for (n, rtc_state, phase) in [
         (3, rtc::State::ABORTING, Phase::Aborting),
         (4, rtc::State::SUCCEEDED, Phase::Succeeded),
@@ -442,7 +442,7 @@ fn coop_dev_register_phase_1() {
                 id(n)
             )
         );
-        assert!(!lane_change.is_registered(id(n)));
+        assert!(!lane_change.view().is_registered(id(n)));
         assert_eq!(state, before, "nothing registered");
     }
 }
@@ -488,7 +488,7 @@ fn coop_dev_duplicate_1() {
         "{rejection:?}"
     );
     assert!(
-        !lane_change.is_activated(id(1)),
+        !lane_change.view().is_activated(id(1)),
         "upstream: the last, ACTIVATE, wins"
     );
     assert_eq!(
@@ -521,7 +521,10 @@ fn coop_dev_auto_mode_key_1() {
                 false,
             )
             .expect("registers");
-        assert!(interface.is_activated(id(n)), "auto mode: follows safe");
+        assert!(
+            interface.view().is_activated(id(n)),
+            "auto mode: follows safe"
+        );
     }
     let reply = rtc
         .interface(&mut state, "lane_change_left")
@@ -623,7 +626,7 @@ fn coop_dev_interface_name_1() {
             false,
         )
         .expect("registers");
-    assert!(interface.is_activated(id(1)));
+    assert!(interface.view().is_activated(id(1)));
 }
 
 /// `[COOP-DEV-ROUTING.1]`: through the external API every command is answered, the virtual

@@ -53,7 +53,9 @@ fn an_unknown_scene_reported_running_registers_with_its_fields() {
     interface
         .update_cooperate_status(id(1), false, rtc::State::RUNNING, 12.5, 80.0, true)
         .expect("registers");
-    let array = interface.cooperate_status_array(rtc::Time::new(5, 0));
+    let array = interface
+        .view()
+        .cooperate_status_array(rtc::Time::new(5, 0));
     let status = array.statuses[0];
     assert_eq!(status.uuid, id(1).into());
     assert_eq!(status.module.r#type, rtc::Module::LANE_CHANGE_LEFT);
@@ -208,10 +210,10 @@ fn a_scene_belongs_to_the_interface_that_registered_it() {
             )
         );
         let mut interface = rtc.interface(&mut state, other).expect("bound");
-        assert!(!interface.is_registered(id(1)));
-        assert!(!interface.is_activated(id(1)));
-        assert_eq!(interface.is_rtc_enabled(id(1)), None);
-        assert_eq!(interface.is_terminated(id(1)), None);
+        assert!(!interface.view().is_registered(id(1)));
+        assert!(!interface.view().is_activated(id(1)));
+        assert_eq!(interface.view().is_rtc_enabled(id(1)), None);
+        assert_eq!(interface.view().is_terminated(id(1)), None);
         assert!(interface.remove_cooperate_status(id(1)).is_err());
         assert!(interface
             .clear_cooperate_status()
@@ -447,7 +449,7 @@ fn auto_mode_follows_safe_unless_requested() {
                 requested,
             )
             .expect("registers");
-        assert_eq!(interface.is_activated(id(n)), activated, "scene {n}");
+        assert_eq!(interface.view().is_activated(id(n)), activated, "scene {n}");
     }
 }
 
@@ -542,17 +544,17 @@ fn requested_scenes_and_the_force_flags() {
             true,
         )
         .expect("registers");
-    assert!(!interface.is_activated(id(1)));
+    assert!(!interface.view().is_activated(id(1)));
     let reply = interface.cooperate_commands(&rtc_commands(&[(id(1), rtc::Command::ACTIVATE)]));
     assert!(reply.result.is_ok());
-    assert!(interface.is_activated(id(1)));
-    assert!(interface.is_force_activated(id(1)));
+    assert!(interface.view().is_activated(id(1)));
+    assert!(interface.view().is_force_activated(id(1)));
     interface
         .update_cooperate_status(id(1), true, rtc::State::RUNNING, 0.0, 17.0, true)
         .expect("runs");
     let reply = interface.cooperate_commands(&rtc_commands(&[(id(1), rtc::Command::DEACTIVATE)]));
     assert!(reply.result.is_ok());
-    assert!(interface.is_force_deactivated(id(1)));
+    assert!(interface.view().is_force_deactivated(id(1)));
 }
 
 /// §6.28: an aborting scene can still be activated (auto mode, safe), as upstream; it is not

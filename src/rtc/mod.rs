@@ -39,8 +39,8 @@
 //!     // The lane change module reports its scene every cycle; it is not safe yet.
 //!     let mut lane_change = rtc.interface(&mut state, "lane_change_left")?;
 //!     lane_change.update_cooperate_status(id, false, rtc::State::WAITING_FOR_EXECUTION, 20.0, 60.0, false)?;
-//!     assert!(lane_change.is_registered(id));
-//!     assert!(!lane_change.is_activated(id)); // auto mode: follows `safe`
+//!     assert!(lane_change.view().is_registered(id));
+//!     assert!(!lane_change.view().is_activated(id)); // auto mode: follows `safe`
 //!
 //!     // The operator approves through the interface's CooperateCommands service.
 //!     let request = CooperateCommandsRequest {
@@ -53,10 +53,10 @@
 //!     };
 //!     let reply = lane_change.cooperate_commands(&request);
 //!     assert!(reply.response.responses[0].success);
-//!     assert!(lane_change.is_activated(id) && lane_change.is_force_activated(id));
+//!     assert!(lane_change.view().is_activated(id) && lane_change.view().is_force_activated(id));
 //!
 //!     // What upstream publishes on /planning/cooperate_status/lane_change_left.
-//!     let array = lane_change.cooperate_status_array(Time::new(100, 0));
+//!     let array = lane_change.view().cooperate_status_array(Time::new(100, 0));
 //!     assert_eq!(array.statuses[0].command_status.r#type, rtc::Command::ACTIVATE);
 //!     assert!(!array.statuses[0].auto_mode);
 //!
