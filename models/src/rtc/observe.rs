@@ -4,7 +4,7 @@
 use cooperation::rtc::{self, CooperateResponse, Reply, RtcError};
 use cooperation::{OperatorDecision, Phase, RetireReason, SceneId, State, Transition};
 
-use super::call::{Call, Order};
+use super::call::{Call, Order, UNDEFINED_COMMAND, UNDEFINED_MODULE, UNDEFINED_STATE};
 use super::step::{Answer, Broken, Interface, Kind, Outcome, Refusal, RtcStep};
 use super::RtcModel;
 
@@ -19,13 +19,19 @@ pub struct Said {
     pub responses: Vec<CooperateResponse>,
     /// An auto-mode request's wire `success`.
     pub success: Option<bool>,
+    /// The field and value a refusal for an undefined constant names.
+    pub field: Option<(String, u8)>,
 }
 
 impl Said {
     /// A call of this kind refused with `error`.
     #[must_use]
     pub fn refused(kind: Kind, error: &RtcError) -> Self {
-        Self::of(kind, Answer::Refused(Refusal::of(error)))
+        let mut said = Self::of(kind, Answer::Refused(Refusal::of(error)));
+        if let RtcError::Field(error) = error {
+            said.field = Some((error.field.clone(), error.value));
+        }
+        said
     }
 
     /// A call of this kind that answered `answer`, listing nothing.
@@ -36,6 +42,7 @@ impl Said {
             ids: Vec::new(),
             responses: Vec::new(),
             success: None,
+            field: None,
         }
     }
 
@@ -96,6 +103,31 @@ fn remembered(core: &State, id: SceneId) -> bool {
     core.scene(id).is_some() || core.retirement(id).is_some()
 }
 
+/// The first field of `call` with an undefined constant, and its value, as the adapter's
+/// documentation says it names it (`[COOP-DEV-CONSTANTS.1]`): an update's `state`; a command
+/// request's `commands[i].module.type`, else `commands[i].command.type`, of the first command
+/// with one; an auto-mode request's `module.type`.
+fn undefined_field(call: &Call) -> Option<(String, u8)> {
+    match call {
+        Call::Update { state, .. } => {
+            (*state == UNDEFINED_STATE).then(|| ("state".to_owned(), *state))
+        }
+        Call::Commands { orders, .. } => orders.iter().enumerate().find_map(|(i, order)| {
+            if order.module == UNDEFINED_MODULE {
+                Some((format!("commands[{i}].module.type"), order.module))
+            } else if order.command == UNDEFINED_COMMAND {
+                Some((format!("commands[{i}].command.type"), order.command))
+            } else {
+                None
+            }
+        }),
+        Call::AutoModeWithModule { module, .. } => {
+            (*module == UNDEFINED_MODULE).then(|| ("module.type".to_owned(), *module))
+        }
+        Call::Remove { .. } | Call::Clear { .. } | Call::AutoMode { .. } | Call::Tick => None,
+    }
+}
+
 /// The flags the step from `from` by `call` (answering `said`) to `to` breaks, and the
 /// registrars after it.
 pub(super) fn observe(
@@ -113,6 +145,7 @@ pub(super) fn observe(
     let accepted = said.accepted();
     let unchanged = old == new && from.rtc == to.rtc;
     broken.set(Broken::REFUSAL_CHANGED, !accepted && !unchanged);
+    broken.set(Broken::FIELD_MISNAMED, said.field != undefined_field(call));
 
     // Registrars: who registered each identifier the core remembers now.
     for &id in ids {

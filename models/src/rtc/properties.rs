@@ -374,6 +374,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
         ("COOP-DEV-ID-REUSE.1, COOP-REG-RETIRED.1: a retired identifier never becomes live again", unbroken::<{ Broken::REVIVED.0 }>),
         ("COOP-DEV-EXPIRY.1: a tick reports exactly the scenes that expired", unbroken::<{ Broken::EXPIRY_UNREPORTED.0 }>),
         ("COOP-OWN-REMOVE.1: a clear retires exactly its interface's live scenes and answers them", unbroken::<{ Broken::CLEAR_WRONG.0 }>),
+        ("COOP-DEV-CONSTANTS.1: a call is refused for an undefined constant exactly when it carries one, naming the first such field and its value", unbroken::<{ Broken::FIELD_MISNAMED.0 }>),
     ]
 }
 

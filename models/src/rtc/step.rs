@@ -137,9 +137,11 @@ impl Broken {
     pub const EXPIRY_UNREPORTED: Self = Self(1 << 10);
     /// A clear did not retire exactly the interface's live scenes, or answered others.
     pub const CLEAR_WRONG: Self = Self(1 << 11);
+    /// A call was refused for an undefined constant other than its first, or without one.
+    pub const FIELD_MISNAMED: Self = Self(1 << 12);
 
     /// Every flag with a short name, for traces.
-    pub const NAMED: [(Self, &'static str); 12] = [
+    pub const NAMED: [(Self, &'static str); 13] = [
         (Self::REFUSAL_CHANGED, "refusal changed the state"),
         (Self::UNANSWERED, "request not answered as it went"),
         (
@@ -164,6 +166,10 @@ impl Broken {
         (Self::REVIVED, "retired identifier live again"),
         (Self::EXPIRY_UNREPORTED, "expiry not reported"),
         (Self::CLEAR_WRONG, "clear did not retire exactly its scenes"),
+        (
+            Self::FIELD_MISNAMED,
+            "refusal did not name the undefined field",
+        ),
     ];
 
     /// The names of the flags among these.
