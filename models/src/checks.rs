@@ -232,7 +232,11 @@ fn present(
     print!("{}", report.table());
     println!("\n{}", report.tally());
     match report.ended {
-        Ended::Complete => {}
+        Ended::Complete => {
+            if let Some(steps) = report.depth_bound {
+                println!("complete to depth {steps} only (--depth): longer paths are unchecked");
+            }
+        }
         Ended::Violation => println!(
             "incomplete: stopped at the first violated property (--keep-going collects every \
              violation)"

@@ -41,6 +41,7 @@ const USAGE: &str = "usage:
                              [--no-symmetry] [--fault NAME] [--out DIR]
                              [--timeout SECONDS] [--summary] [--keep-going]
                              [--memory-gib G] [--max-states N] [--table adaptive|hashed]
+                             [--depth STEPS]
   cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
                              [--scenes N] [--threads T] [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
@@ -159,6 +160,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
                     other => return Err(format!("--views is ids or statuses, not {other:?}")),
                 };
             }
+            "--depth" => stop.depth = Some(number()?),
             "--timeout" => {
                 stop.timeout = Some(std::time::Duration::from_secs(number()? as u64));
             }

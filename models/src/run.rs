@@ -134,6 +134,11 @@ pub struct Stop {
     pub budget: Budget,
     /// The time limit, if any.
     pub timeout: Option<Duration>,
+    /// Explore only paths of at most this many steps from an initial state, if set: a search
+    /// that ends within the bound is complete to that depth, not beyond. Use one thread where
+    /// the count matters: with more, a state first reached by a longer path may be cut off at
+    /// the bound, so the states explored can vary between runs.
+    pub depth: Option<usize>,
 }
 
 impl Stop {
@@ -144,6 +149,7 @@ impl Stop {
             keep_going: false,
             budget: Budget::default(),
             timeout: None,
+            depth: None,
         }
     }
 
@@ -196,8 +202,10 @@ pub struct Report {
     pub depth: usize,
     /// Wall time of the search (the counterexample searches after it not included).
     pub elapsed: Duration,
-    /// Whether the search ran to completion.
+    /// Whether the search ran to completion (to [`Stop::depth`] steps, when that is set).
     pub complete: bool,
+    /// The depth bound the search kept to, if any ([`Stop::depth`]).
+    pub depth_bound: Option<usize>,
     /// How the search ended.
     pub ended: Ended,
     /// The process's peak resident memory, in bytes, where the system tells it.
@@ -337,6 +345,11 @@ where
     } else {
         builder
     };
+    // stateright counts the initial state as depth 1 and expands no state at the target depth.
+    let builder = match stop.depth {
+        Some(steps) => builder.target_max_depth(steps.saturating_add(1)),
+        None => builder,
+    };
     let checker = match settings.strategy {
         Strategy::Dfs => Box::new(builder.spawn_dfs()) as Box<dyn Checker<M> + Send + Sync>,
         Strategy::Bfs => Box::new(builder.spawn_bfs()),
@@ -404,6 +417,7 @@ where
         depth,
         elapsed: searched,
         complete: ended == Ended::Complete,
+        depth_bound: stop.depth,
         ended,
         peak_bytes: status_bytes("VmHWM:"),
         outcomes,
@@ -527,6 +541,7 @@ where
         keep_going: true,
         budget,
         timeout: None,
+        depth: None,
     };
     let mut quiet = Progress::new(std::io::sink());
     watch(&checker, &stop, &halt, Instant::now(), &mut quiet);

@@ -172,3 +172,23 @@ fn help_after_a_command_prints_the_usage() {
         );
     }
 }
+
+/// `--depth` bounds the search, and the report says the check is complete to that depth only;
+/// witnesses out of reach within two steps leave it unsatisfied (exit status 1).
+#[test]
+fn a_depth_bound_is_reported_as_such() {
+    let (code, stdout, _) = check(
+        "depth",
+        &["--modules", "1", "--scenes", "2", "--depth", "2"],
+    );
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(stdout.contains(", 0 violated, "), "{stdout}");
+    assert!(
+        stdout.contains("complete to depth 2 only (--depth): longer paths are unchecked"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("depth 3,"),
+        "stateright counts the initial state: {stdout}"
+    );
+}

@@ -4,7 +4,7 @@
 //! The pinned counts are the model's, not targets: if one moves, find out why before changing
 //! it (see docs/verification.md).
 
-use cooperation_models::run::{check, Checkable, Report, Settings, Strategy};
+use cooperation_models::run::{check, check_for, Checkable, Report, Settings, Stop, Strategy};
 use cooperation_models::{Bounds, NetBounds, NetworkModel, SequentialModel, Views};
 
 #[global_allocator]
@@ -99,6 +99,43 @@ fn one_module_three_scenes_hashed_table_without_symmetry() {
     };
     let report = passes(&model, settings);
     assert_eq!((report.unique, report.generated), (2_312_761, 34_941_716));
+}
+
+/// The hashed table with three scenes live at once, registered in every order, without
+/// symmetry, to seven steps (the whole space is about ten million states): a fault that shows
+/// only with a third entry in the index or the identifier order (an order rebuilt from
+/// insertion positions, an index too small for its entries) fails here within four steps. Every
+/// `always` property holds; the scene limit (three) cannot be met with three identifiers. One
+/// thread: with more, which states a depth bound cuts off can vary between runs.
+#[test]
+fn one_module_three_live_scenes_hashed_table_to_seven_steps() {
+    let bounds = Bounds {
+        live: 3,
+        ..Bounds::new(1, 3)
+    };
+    let model = SequentialModel::new(bounds)
+        .expect("valid bounds")
+        .with_table(cooperation::TableLayout::Colliding);
+    let settings = Settings {
+        threads: 1,
+        strategy: Strategy::Bfs,
+        symmetry: false,
+    };
+    let stop = Stop {
+        depth: Some(7),
+        ..Stop::every_violation()
+    };
+    let report = check_for(&model, settings, stop, &mut std::io::sink());
+    assert!(report.complete, "the search did not complete to its depth");
+    assert_eq!(report.depth_bound, Some(7));
+    let failed: Vec<&str> = report
+        .outcomes
+        .iter()
+        .filter(|o| !o.holds)
+        .map(|o| o.name)
+        .collect();
+    assert_eq!(failed, ["COOP-REG-FULL.1 is reachable"]);
+    assert_eq!((report.unique, report.generated), (958_420, 10_296_306));
 }
 
 /// Without symmetry, depth first and breadth first agree: the reduction above loses nothing

@@ -32,12 +32,22 @@ where
         + stateright::Representative,
     M::Action: core::fmt::Debug + Clone + PartialEq + Send + Sync,
 {
-    let report: Report = check_for(
-        model,
-        settings,
-        Stop::first_violation(),
-        &mut std::io::sink(),
-    );
+    satisfied_within(model, settings, Stop::first_violation(), unreachable);
+}
+
+/// [`satisfied`], searching as `stop` says (to a depth bound, say).
+fn satisfied_within<M: Checkable>(model: &M, settings: Settings, stop: Stop, unreachable: &[&str])
+where
+    M::State: core::hash::Hash
+        + core::fmt::Debug
+        + Clone
+        + PartialEq
+        + Send
+        + Sync
+        + stateright::Representative,
+    M::Action: core::fmt::Debug + Clone + PartialEq + Send + Sync,
+{
+    let report: Report = check_for(model, settings, stop, &mut std::io::sink());
     let failed: Vec<&str> = report
         .outcomes
         .iter()
@@ -67,7 +77,7 @@ fn sequential() {
     }
     // Symmetry reduction expands one state of each class equal up to renaming; a table that
     // kept scenes in the order they registered shows only in some members, so the hashed
-    // table is also checked without it, with every identifier live at once.
+    // table is also checked without it, with every identifier live at once, two and three.
     let both_live = Bounds {
         live: 2,
         ..Bounds::new(1, 2)
@@ -81,6 +91,20 @@ fn sequential() {
         ..SETTINGS
     };
     satisfied(&model, bfs, &["COOP-REG-FULL.1 is reachable"]);
+    // Three live scenes registered in any order, to six steps: an index or an identifier order
+    // that goes wrong only with a third entry shows here.
+    let three_live = Bounds {
+        live: 3,
+        ..Bounds::new(1, 3)
+    };
+    let model = SequentialModel::new(three_live)
+        .expect("valid")
+        .with_table(TableLayout::Colliding);
+    let to_six_steps = Stop {
+        depth: Some(6),
+        ..Stop::first_violation()
+    };
+    satisfied_within(&model, bfs, to_six_steps, &["COOP-REG-FULL.1 is reachable"]);
     let model = SequentialModel::new(Bounds::new(2, 2)).expect("valid");
     satisfied(&model, SETTINGS, &[]);
     let forgetting = Bounds {

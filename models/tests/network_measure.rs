@@ -41,6 +41,7 @@ fn two_operators_two_scenes_status_views() {
             states: CAP,
         },
         timeout: Some(Duration::from_secs(600)),
+        depth: None,
     };
     let report = check_for(&model, settings, stop, &mut std::io::stderr());
     eprintln!(
