@@ -160,7 +160,8 @@ const fn large(
 }
 
 /// `reach [--full] [--only BOUNDS] [--write FILE]`; `--only "3 × 4"` runs the configurations
-/// with those bounds alone.
+/// with those bounds alone. `--write` without `--full` keeps the larger configurations' rows
+/// of an earlier run, marked as such.
 pub(crate) fn run(args: &[String]) -> Result<bool, String> {
     let mut full = false;
     let mut write = None;
@@ -203,6 +204,10 @@ pub(crate) fn run(args: &[String]) -> Result<bool, String> {
             eprint!("{row}");
             table += &row;
         }
+    }
+    if let (Some(file), false, None) = (&write, full, &only) {
+        // Without --full, the larger configurations' rows of an earlier run stay, marked.
+        table += &earlier_rows(Path::new(file), FULL)?;
     }
     println!("{table}");
     if let Some(file) = write {
@@ -313,6 +318,29 @@ fn thousands(n: usize) -> String {
         out.push(c);
     }
     out
+}
+
+/// The rows of `file`'s table for `configs`, each marked in its last column as from an
+/// earlier run.
+fn earlier_rows(file: &Path, configs: &[Config]) -> Result<String, String> {
+    const EARLIER: &str = " (an earlier run)";
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let mut rows = String::new();
+    for config in configs {
+        let key = format!(
+            "| {} | {} | {} |",
+            config.model, config.bounds, config.search
+        );
+        for line in text.lines().filter(|line| line.starts_with(&key)) {
+            match line.strip_suffix(" |") {
+                Some(cells) if !cells.ends_with(EARLIER) => {
+                    rows += &format!("{cells}{EARLIER} |\n");
+                }
+                _ => rows += &format!("{line}\n"),
+            }
+        }
+    }
+    Ok(rows)
 }
 
 /// Replaces the text between `<!-- generated: reach -->` and the next `<!-- end generated -->`.
