@@ -97,8 +97,8 @@ fn layout_is_invisible(_: &SequentialModel, step: &Step) -> bool {
 }
 
 /// Spec §3's state seen through every query: the listings agree with the lookups and the
-/// counts, scenes and retirements are listed in identifier order, and the retired identifiers
-/// in order of retirement are the same set.
+/// counts, scenes and retirements are listed in identifier order, the retired identifiers
+/// in order of retirement are the same set, and the scene listing's size hint is valid.
 fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
     let core: &State = &step.core;
     let ascending = |ids: &[SceneId]| ids.windows(2).all(|w| w.first() < w.last());
@@ -106,7 +106,10 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
     let by_id: Vec<SceneId> = core.retirements().map(|(id, _)| id).collect();
     let mut by_age: Vec<SceneId> = core.retired().map(|(id, _)| id).collect();
     by_age.sort_unstable();
-    ascending(&live)
+    // The iterator's size hint is valid, as Rust's `Iterator` contract asks of every iterator.
+    let (lower, upper) = core.scenes().size_hint();
+    let hint = lower <= live.len() && upper.map_or(true, |upper| live.len() <= upper);
+    hint && ascending(&live)
         && live.len() == core.scene_count()
         && core
             .scenes()
