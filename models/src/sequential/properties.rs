@@ -96,6 +96,20 @@ fn layout_is_invisible(_: &SequentialModel, step: &Step) -> bool {
     relaid.table_layout() == other && relaid == *step.core && relaid.scenes().eq(step.core.scenes())
 }
 
+/// The name of the serialization property, which the model checks with one module only
+/// ([`SequentialModel`]'s `properties`).
+pub(super) const SERIALIZES: &str =
+    "spec §3: a state read back from its serialized form is the same state";
+
+/// The state's serialized form (the one traces and counterexamples carry) reads back as the
+/// same state, invariants checked on the way in.
+fn serializes(_: &SequentialModel, step: &Step) -> bool {
+    serde_json::to_string(&*step.core)
+        .ok()
+        .and_then(|text| serde_json::from_str::<State>(&text).ok())
+        .is_some_and(|back| back == *step.core)
+}
+
 /// Spec §3's state seen through every query: the listings agree with the lookups and the
 /// counts, scenes and retirements are listed in identifier order, the retired identifiers
 /// in order of retirement are the same set, and the scene listing's size hint is valid.
@@ -332,6 +346,7 @@ fn always() -> Vec<(&'static str, Condition)> {
             "spec §3: the state's queries agree with one another",
             queries_agree,
         ),
+        (SERIALIZES, serializes),
         (
             "spec §3: renaming identifiers (symmetry) keeps the state and refuses merging two",
             relabel_is_a_renaming,
