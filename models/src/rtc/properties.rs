@@ -199,10 +199,18 @@ fn auto_mode_is_policy(model: &RtcModel, step: &RtcStep) -> bool {
         })
 }
 
-/// The adapter's memory is bounded as the core's is: `Rtc::route_count`'s promise.
-fn routes_bounded(_: &RtcModel, step: &RtcStep) -> bool {
+/// The adapter's memory is bounded as the core's is, `Rtc::route_count`'s promise, and the
+/// count covers at least every identifier routed.
+fn routes_bounded(model: &RtcModel, step: &RtcStep) -> bool {
     let limits = step.core.limits();
-    step.rtc.route_count() <= limits.max_scenes + limits.retired_capacity + 1
+    // Every identifier the adapter answers an owner for has a route.
+    let routed = model
+        .ids()
+        .iter()
+        .filter(|id| step.rtc.owner(&step.core, **id).is_some())
+        .count();
+    let count = step.rtc.route_count();
+    routed <= count && count <= limits.max_scenes + limits.retired_capacity + 1
 }
 
 /// Before any call, every bound module's policy is optional: the model builds its
@@ -382,7 +390,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
 /// (the same states as its predecessor, already checked) needs no check again.
 const STATES: [(&str, Condition); 14] = [
         ("COOP-DEV-ID-REUSE.1: each remembered identifier is routed to the interface that registered it", routed_to_registrar),
-        ("COOP-DEV-ID-REUSE.1: the adapter keeps routes for no more identifiers than the core can remember plus one", routes_bounded),
+        ("COOP-DEV-ID-REUSE.1: the adapter's route count covers every routed identifier and no more than the core can remember plus one", routes_bounded),
         ("COOP-OUT-STATUS.1, COOP-DEV-NONE.1: each interface's status array lists exactly its live scenes, with the core's values", statuses_are_the_cores),
         ("COOP-DEV-ORDER.1, COOP-DEV-ROUTING.1: the external status array lists every interface's live scenes, nearest start first", external_statuses),
         ("COOP-MERGE.1: is_activated is the core's merged decision, and false for another interface's scene", activated_is_merged),
