@@ -17,26 +17,12 @@ const SETTINGS: Settings = Settings {
     symmetry: true,
 };
 
-/// Checks to completion; every property satisfied but the `sometimes` properties named in
-/// `unreachable`, which these bounds are too small for. The check stops at the first violated
-/// `always` property, as `check` does by default: a wrong transition that also grows the state
-/// space is then reported by the property it breaks, not by a run that outlasts its time.
-fn satisfied<M: Checkable>(model: &M, settings: Settings, unreachable: &[&str])
-where
-    M::State: core::hash::Hash
-        + core::fmt::Debug
-        + Clone
-        + PartialEq
-        + Send
-        + Sync
-        + stateright::Representative,
-    M::Action: core::fmt::Debug + Clone + PartialEq + Send + Sync,
-{
-    satisfied_within(model, settings, Stop::first_violation(), unreachable);
-}
-
-/// [`satisfied`], searching as `stop` says (to a depth bound, say).
-fn satisfied_within<M: Checkable>(model: &M, settings: Settings, stop: Stop, unreachable: &[&str])
+/// Checks to completion (to `stop`'s depth bound, where it sets one); every property satisfied
+/// but the `sometimes` properties named in `unreachable`, which these bounds are too small for.
+/// Every caller stops at the first violated `always` property, as `check` does by default: a
+/// wrong transition that also grows the state space is then reported by the property it
+/// breaks, not by a run that outlasts its time.
+fn satisfied<M: Checkable>(model: &M, settings: Settings, stop: Stop, unreachable: &[&str])
 where
     M::State: core::hash::Hash
         + core::fmt::Debug
@@ -73,7 +59,7 @@ fn sequential() {
         let model = SequentialModel::new(Bounds::new(1, 3))
             .expect("valid")
             .with_table(table);
-        satisfied(&model, SETTINGS, &[]);
+        satisfied(&model, SETTINGS, Stop::first_violation(), &[]);
     }
     // Symmetry reduction expands one state of each class equal up to renaming; a table that
     // kept scenes in the order they registered shows only in some members, so the hashed
@@ -90,7 +76,12 @@ fn sequential() {
         symmetry: false,
         ..SETTINGS
     };
-    satisfied(&model, bfs, &["COOP-REG-FULL.1 is reachable"]);
+    satisfied(
+        &model,
+        bfs,
+        Stop::first_violation(),
+        &["COOP-REG-FULL.1 is reachable"],
+    );
     // Three live scenes registered in any order, to six steps: an index or an identifier order
     // that goes wrong only with a third entry shows here.
     let three_live = Bounds {
@@ -104,9 +95,9 @@ fn sequential() {
         depth: Some(6),
         ..Stop::first_violation()
     };
-    satisfied_within(&model, bfs, to_six_steps, &["COOP-REG-FULL.1 is reachable"]);
+    satisfied(&model, bfs, to_six_steps, &["COOP-REG-FULL.1 is reachable"]);
     let model = SequentialModel::new(Bounds::new(2, 2)).expect("valid");
-    satisfied(&model, SETTINGS, &[]);
+    satisfied(&model, SETTINGS, Stop::first_violation(), &[]);
     let forgetting = Bounds {
         modules: 1,
         scenes: 3,
@@ -114,7 +105,7 @@ fn sequential() {
         retired: 1,
     };
     let model = SequentialModel::new(forgetting).expect("valid");
-    satisfied(&model, bfs, &[]);
+    satisfied(&model, bfs, Stop::first_violation(), &[]);
 }
 
 /// The RTC adapter model, two interfaces, two identifiers both live at once; and with four
@@ -131,6 +122,7 @@ fn rtc() {
     satisfied(
         &model,
         SETTINGS,
+        Stop::first_violation(),
         &["COOP-REG-FULL.1: an update beyond the scene limit is refused"],
     );
     let forgetting = RtcBounds {
@@ -147,6 +139,7 @@ fn rtc() {
     satisfied(
         &model,
         bfs,
+        Stop::first_violation(),
         &[
             "COOP-OWN-REMOVE.1: a clear retires two scenes",
             "witness: two interfaces have live scenes at once",
@@ -163,5 +156,5 @@ fn network() {
         symmetry: false,
         threads: 2,
     };
-    satisfied(&model, bfs, &[]);
+    satisfied(&model, bfs, Stop::first_violation(), &[]);
 }
