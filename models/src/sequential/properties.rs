@@ -98,16 +98,42 @@ fn layout_is_invisible(_: &SequentialModel, step: &Step) -> bool {
 
 /// The name of the serialization property, which the model checks with one module only
 /// ([`SequentialModel`]'s `properties`).
-pub(super) const SERIALIZES: &str =
-    "spec §3: a state read back from its serialized form is the same state";
+pub(super) const SERIALIZES: &str = "spec §3, §8: a state read back from its serialized form is the same state, and a corrupted one is refused";
 
 /// The state's serialized form (the one traces and counterexamples carry) reads back as the
-/// same state, invariants checked on the way in.
+/// same state; and read back corrupted, it is refused (`State::check_invariants` on the way in,
+/// spec §8): a retired identifier listed twice in the retirement order, a live one listed in
+/// place of a retired one (`[COOP-INV-RETIRED-ORDER.1]`), a live scene that succeeded
+/// (`[COOP-INV-LIVE-PHASE.1]`). A corruption the state has no part for is skipped.
 fn serializes(_: &SequentialModel, step: &Step) -> bool {
-    serde_json::to_string(&*step.core)
-        .ok()
-        .and_then(|text| serde_json::from_str::<State>(&text).ok())
-        .is_some_and(|back| back == *step.core)
+    use serde_json::Value;
+    let Ok(value) = serde_json::to_value(&*step.core) else {
+        return false;
+    };
+    let reads_back =
+        serde_json::from_value::<State>(value.clone()).is_ok_and(|back| back == *step.core);
+    let refused = |corrupt: &dyn Fn(&mut Value) -> Option<()>| {
+        let mut corrupted = value.clone();
+        corrupt(&mut corrupted).is_none() || serde_json::from_value::<State>(corrupted).is_err()
+    };
+    let first_live = |v: &Value| v.get("scenes")?.get(0)?.get(0).cloned();
+    reads_back
+        && refused(&|v| {
+            let order = v.get_mut("retired_order")?.as_array_mut()?;
+            let first = order.first()?.clone();
+            order.push(first);
+            Some(())
+        })
+        && refused(&|v| {
+            let live = first_live(v)?;
+            *v.get_mut("retired_order")?.get_mut(0)? = live;
+            Some(())
+        })
+        && refused(&|v| {
+            let scene = v.get_mut("scenes")?.get_mut(0)?.get_mut(1)?;
+            *scene.get_mut("phase")? = Value::from("Succeeded");
+            Some(())
+        })
 }
 
 /// Spec §3's state seen through every query: the listings agree with the lookups and the
