@@ -137,7 +137,8 @@ impl Broken {
     pub const EXPIRY_UNREPORTED: Self = Self(1 << 10);
     /// A clear did not retire exactly the interface's live scenes, or answered others.
     pub const CLEAR_WRONG: Self = Self(1 << 11);
-    /// A call was refused for an undefined constant other than its first, or without one.
+    /// A refusal for an undefined constant named another field or value than the call's first
+    /// undefined one, or a call carrying one was not refused for it, or one without was.
     pub const FIELD_MISNAMED: Self = Self(1 << 12);
 
     /// Every flag with a short name, for traces.
