@@ -149,8 +149,8 @@ fn coop_inv_module_1() {
     assert!(error.contains("COOP-INV-MODULE.1"), "{error}");
 }
 
-/// `[COOP-INV-RETIRED-ORDER.1]` past 32 retired identifiers, where the check counts distinct
-/// entries instead of comparing pairs: an exact order passes, a repeated entry is refused.
+/// `[COOP-INV-RETIRED-ORDER.1]` with 40 retired identifiers, more than any model remembers: an
+/// exact order passes, a repeated entry is refused.
 #[test]
 fn coop_inv_retired_order_1_large() {
     let mut state = State::new(Config {
