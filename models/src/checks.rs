@@ -52,7 +52,8 @@ pub(crate) fn run(options: &Options) -> Result<bool, String> {
 pub(crate) fn model(options: &Options) -> Result<SequentialModel, String> {
     let model = SequentialModel::new(options.bounds)
         .map_err(|e| e.to_string())?
-        .with_table(options.table);
+        .with_table(options.table)
+        .with_stalled_merged(!options.keep_stalled);
     Ok(match fault(options, &Fault::ALL)? {
         Some(fault) => model.with_fault(fault),
         None => model,
@@ -106,20 +107,22 @@ fn run_rtc(options: &Options) -> Result<bool, String> {
     check_and_present(&model, options.settings, options)
 }
 
-/// With `--summary`, one JSON line for `reach`: counts, time, completion and peak memory.
+/// With `--summary`, one JSON line for `reach`: counts, time, what stopped an incomplete
+/// search, and peak memory.
 fn summarise(
     options: &Options,
     unique: usize,
     generated: usize,
     elapsed: std::time::Duration,
-    complete: bool,
+    stopped: Option<String>,
 ) {
     if options.summary {
         let summary = reach::Summary {
             unique,
             generated,
             seconds: elapsed.as_secs_f64(),
-            complete,
+            complete: stopped.is_none(),
+            stopped,
             peak_rss_bytes: cooperation_models::budget::status_bytes("VmHWM:"),
         };
         println!("summary: {}", serde_json::json!(summary));
@@ -152,7 +155,7 @@ fn run_trivial(options: &Options) -> Result<bool, String> {
         result.unique,
         result.generated,
         result.elapsed,
-        result.complete,
+        (!result.complete).then(|| "the time limit".to_owned()),
     );
     Ok(result.complete && result.unique as u128 == model.states())
 }
@@ -213,7 +216,12 @@ where
         report.unique,
         report.generated,
         report.elapsed,
-        report.complete,
+        match report.ended {
+            _ if report.complete => None,
+            Ended::Complete => Some("its depth bound".to_owned()),
+            Ended::Violation => Some("a violated property".to_owned()),
+            Ended::Exceeded(exceeded) => Some(exceeded.to_string()),
+        },
     );
     present(&report, &options.out)
 }

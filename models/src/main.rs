@@ -5,7 +5,7 @@
 //!                            [--threads T] [--strategy dfs|bfs] [--no-symmetry]
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
-//!                            [--table adaptive|hashed]
+//!                            [--table adaptive|hashed] [--keep-stalled]
 //! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--scenes N] ...
 //! cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
@@ -41,7 +41,7 @@ const USAGE: &str = "usage:
                              [--no-symmetry] [--fault NAME] [--out DIR]
                              [--timeout SECONDS] [--summary] [--keep-going]
                              [--memory-gib G] [--max-states N] [--table adaptive|hashed]
-                             [--depth STEPS]
+                             [--depth STEPS] [--keep-stalled]
   cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
                              [--scenes N] [--threads T] [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
@@ -56,7 +56,9 @@ defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired o
 2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
 apply, that is when fewer retired identifiers are remembered than there are identifiers),
 counterexamples saved under target/counterexamples. --table hashed lays every state's scenes
-out in the hashed index from the first scene, under a colliding hash (same counts). The network
+out in the hashed index from the first scene, under a colliding hash (same counts). An input
+that changes nothing ends a path, and all such ends that fired one rule count as one state
+(--keep-stalled counts each as its own, for cross-checking; same verdicts). The network
 model (breadth first) defaults to 2 scene identifiers, 2 operators and --views ids: status
 messages tell operators which scenes exist; --views statuses makes them carry the library's
 whole statuses, decisions included, and lets owners abort a scene (complete for --operators 1;
@@ -84,6 +86,7 @@ pub(crate) struct Options {
     pub(crate) address: String,
     pub(crate) stop: Stop,
     pub(crate) table: TableLayout,
+    pub(crate) keep_stalled: bool,
     pub(crate) summary: bool,
     pub(crate) bytes: usize,
     pub(crate) operators: usize,
@@ -106,6 +109,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut stop = Stop::first_violation();
     let mut table = TableLayout::Adaptive;
     let mut summary = false;
+    let mut keep_stalled = false;
     let mut bytes = reach::TRIVIAL.bytes;
     let mut operators = cooperation_models::network::OPERATORS;
     let mut views = Views::Identifiers;
@@ -113,6 +117,10 @@ fn parse(args: &[String]) -> Result<Options, String> {
     while let Some(flag) = rest.next() {
         if flag == "--no-symmetry" {
             settings.symmetry = false;
+            continue;
+        }
+        if flag == "--keep-stalled" {
+            keep_stalled = true;
             continue;
         }
         if flag == "--summary" {
@@ -219,6 +227,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         address,
         stop,
         table,
+        keep_stalled,
         summary,
         bytes,
         operators,

@@ -18,12 +18,15 @@ pub(crate) const TRIVIAL: TrivialModel = TrivialModel {
 };
 
 /// What one check came to, as `check --summary` prints it.
-#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct Summary {
     pub(crate) unique: usize,
     pub(crate) generated: usize,
     pub(crate) seconds: f64,
     pub(crate) complete: bool,
+    /// What stopped an incomplete search: the time limit, a budget, a violation.
+    #[serde(default)]
+    pub(crate) stopped: Option<String>,
     pub(crate) peak_rss_bytes: Option<u64>,
 }
 
@@ -88,6 +91,12 @@ const QUICK: &[Config] = &[
     ),
     config("sequential", "2 × 3 (CI)", "DFS, symmetry", &[]),
     config(
+        "sequential, stalled steps kept (`--keep-stalled`)",
+        "2 × 3",
+        "DFS, symmetry",
+        &["--keep-stalled"],
+    ),
+    config(
         "sequential, hashed table",
         "2 × 3 (CI)",
         "DFS, symmetry",
@@ -121,9 +130,16 @@ const FULL: &[Config] = &[
     large("sequential", "2 × 3", "BFS", &["--no-symmetry"], 240),
     large(
         "sequential",
-        "3 × 3",
+        "3 × 3 (CI)",
         "DFS, symmetry",
         &["--modules", "3"],
+        900,
+    ),
+    large(
+        "sequential, stalled steps kept (`--keep-stalled`)",
+        "3 × 3",
+        "DFS, symmetry",
+        &["--modules", "3", "--keep-stalled"],
         300,
     ),
     large(
@@ -300,10 +316,13 @@ fn row(config: &Config, threads: usize, s: &Summary) -> String {
         s.seconds,
         thousands(rate(s.unique) as usize),
         thousands(rate(s.generated) as usize),
-        if s.complete {
-            "yes".to_owned()
-        } else {
-            format!("no (stopped at {} s)", config.timeout_s.unwrap_or_default())
+        match (&s.stopped, config.timeout_s) {
+            _ if s.complete => "yes".to_owned(),
+            (Some(time), Some(limit)) if time == "the time limit" => {
+                format!("no (stopped at {limit} s)")
+            }
+            (Some(why), _) => format!("no (stopped by {why})"),
+            (None, _) => "no".to_owned(),
         }
     )
 }

@@ -82,6 +82,7 @@ pub struct SequentialModel {
     focus: Option<&'static str>,
     halt: Halt,
     table: TableLayout,
+    merge_stalled: bool,
     config: Config,
     alphabet: Vec<Input>,
     tables: Tables,
@@ -133,6 +134,7 @@ impl SequentialModel {
             focus: None,
             halt: Halt::new(),
             table: TableLayout::Adaptive,
+            merge_stalled: true,
             config,
             alphabet,
             tables,
@@ -160,6 +162,15 @@ impl SequentialModel {
     #[must_use]
     pub fn with_table(mut self, table: TableLayout) -> Self {
         self.table = table;
+        self
+    }
+
+    /// The same model keeping every stalled step as a state of its own (`merge` false), instead
+    /// of one per rule (the default; see [`Step`]): the unreduced search, for cross-checking
+    /// the reduction.
+    #[must_use]
+    pub fn with_stalled_merged(mut self, merge: bool) -> Self {
+        self.merge_stalled = merge;
         self
     }
 
@@ -231,7 +242,7 @@ impl SequentialModel {
             None,
             Ghost::default(),
             false,
-            order_matters,
+            (order_matters, self.merge_stalled),
         ))
     }
 
@@ -269,11 +280,11 @@ impl SequentialModel {
                 return Step::stalled_after(from, rule);
             }
             let core = Arc::clone(&from.core);
-            return Step::new(core, Some(rule), ghost, false, from.order_matters);
+            return Step::new(core, Some(rule), ghost, false, from.settings());
         }
         let mut ghost = observe(from, input, &result, &core);
         ghost.broken = ghost.broken.and(departures);
-        Step::new(Arc::new(core), Some(rule), ghost, false, from.order_matters)
+        Step::new(Arc::new(core), Some(rule), ghost, false, from.settings())
     }
 }
 

@@ -17,6 +17,14 @@ use crate::spec::rules::Snapshot;
 /// the retired capacity covers every identifier (`order_matters` is false) the order in which
 /// identifiers retired is left out: no identifier is ever forgotten then, so the order is
 /// unobservable.
+///
+/// A stalled step (an input that changed neither the core nor the history) is a leaf whose
+/// core and history are its predecessor's, so every property but the rule's reachability has
+/// the value it has in the predecessor, which the checker evaluated before expanding it. When
+/// `merge_stalled` is set (the default), a stalled step is fingerprinted by its rule alone, so
+/// all the stalled steps of one rule are one state: the first one found witnesses the rule, and
+/// the others, which could only repeat what their predecessors showed, are not kept
+/// (`docs/verification.md`, *Reductions*).
 #[derive(Clone, serde::Serialize)]
 pub struct Step {
     /// The library's state.
@@ -29,6 +37,8 @@ pub struct Step {
     pub stalled: bool,
     /// Whether the retirement order can matter (the retired set can fill up).
     pub order_matters: bool,
+    /// Whether stalled steps are fingerprinted by their rule alone (see [`Step`]).
+    pub merge_stalled: bool,
     /// Values derived from `core` and `ghost`, computed once and shared by every step with the
     /// same core and history (a stalled step shares its predecessor's).
     #[serde(skip)]
@@ -52,7 +62,7 @@ impl Step {
         last: Option<Rule>,
         ghost: Ghost,
         stalled: bool,
-        order_matters: bool,
+        (order_matters, merge_stalled): (bool, bool),
     ) -> Self {
         let derived = Arc::new(Derived {
             core_hash: core_hash(&core, order_matters),
@@ -65,6 +75,7 @@ impl Step {
             ghost,
             stalled,
             order_matters,
+            merge_stalled,
             derived,
         }
     }
@@ -74,6 +85,12 @@ impl Step {
         self.derived
             .snapshot
             .get_or_init(|| Snapshot::of(&self.core))
+    }
+
+    /// The settings a step passes on to its successors: whether the retirement order matters,
+    /// and whether stalled steps are merged.
+    pub(super) const fn settings(&self) -> (bool, bool) {
+        (self.order_matters, self.merge_stalled)
     }
 
     /// The step for an input that changed nothing: same core and history, shared derivations.
@@ -112,6 +129,7 @@ impl PartialEq for Step {
             && self.ghost == other.ghost
             && self.stalled == other.stalled
             && self.order_matters == other.order_matters
+            && self.merge_stalled == other.merge_stalled
     }
 }
 
@@ -119,10 +137,13 @@ impl Eq for Step {}
 
 impl Hash for Step {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        self.derived.core_hash.hash(state);
-        self.last.hash(state);
-        self.ghost.hash(state);
         self.stalled.hash(state);
+        self.last.hash(state);
+        if self.stalled && self.merge_stalled {
+            return;
+        }
+        self.derived.core_hash.hash(state);
+        self.ghost.hash(state);
     }
 }
 
@@ -142,6 +163,10 @@ impl Representative for Step {
     /// states equal up to renaming share one representative. The sort key is each identifier's
     /// whole signature, so the representative is canonical.
     fn representative(&self) -> Self {
+        if self.stalled && self.merge_stalled {
+            // Fingerprinted by its rule alone: every renaming of it is the same state.
+            return self.clone();
+        }
         match self.derived.canonical.get_or_init(|| self.canonical()) {
             Some(canonical) => Self {
                 last: self.last,
@@ -211,7 +236,7 @@ impl Step {
             self.last,
             ghost,
             self.stalled,
-            self.order_matters,
+            (self.order_matters, self.merge_stalled),
         ))
     }
 }
