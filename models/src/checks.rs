@@ -278,7 +278,7 @@ fn present(
     Ok(report.passed())
 }
 
-fn save(dir: &std::path::Path, trace: &Trace) -> Result<PathBuf, String> {
+pub(crate) fn save(dir: &std::path::Path, trace: &Trace) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let name: String = trace
         .property()

@@ -5,8 +5,13 @@ use cooperation::SceneId;
 
 use crate::spec::TableError;
 
-/// The most identifiers a model can have.
-pub const MAX_SCENES: usize = 8;
+/// The most identifiers the sequential model can have: enough for swarm simulation at a real
+/// planner's sizes (`simulate --scenes 64`). Its history keeps one entry per identifier.
+pub const MAX_SCENES: usize = 64;
+
+/// The most identifiers the RTC and network models can have: they are checked exhaustively
+/// only, and every state keeps fixed-size arrays of this length.
+pub const MAX_SMALL_SCENES: usize = 8;
 
 /// The model's index of an identifier: its number minus one.
 #[must_use]

@@ -21,6 +21,7 @@ pub mod network;
 pub mod rtc;
 pub mod run;
 pub mod sequential;
+pub mod simulate;
 pub mod spec;
 pub mod trace;
 pub mod traceability;

@@ -7,6 +7,8 @@
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
 //!                            [--table adaptive|hashed] [--keep-stalled]
 //! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--scenes N] ...
+//! cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
+//!                            [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
 //! cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
 //! cooperation-models replay  FILE
@@ -29,6 +31,7 @@ use cooperation_models::run::{Settings, Stop, Strategy};
 
 mod checks;
 mod reach;
+mod swarm;
 use cooperation_models::{Bounds, Fault, RtcFault, Trace, Views};
 use stateright::Model;
 
@@ -45,6 +48,9 @@ const USAGE: &str = "usage:
   cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
                              [--scenes N] [--threads T] [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
+  cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
+                             [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
+                             [--table adaptive|hashed] [--out DIR]
   cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
@@ -65,8 +71,12 @@ whole statuses, decisions included, and lets owners abort a scene (complete for 
 with 2 operators it outgrows memory). The check stops at the first violated
 `always` property (--keep-going collects every violation), and stops incomplete, with a
 report and exit status 1, when the process reaches 16 GiB resident (--memory-gib) or 400
-million distinct states (--max-states), or the time limit. Exit status: 0 every property
-satisfied and the search complete, 1 otherwise, 2 bad usage. Faults (sensitivity tests): ";
+million distinct states (--max-states), or the time limit. simulate takes one random walk of
+the sequential model per seed (default 0..100, 1000 inputs a walk, up to 64 identifiers and 8
+modules), checks every property in every state visited, and stops at the first violation,
+saving its trace; a walk depends on its seed alone, so disjoint seed ranges on separate
+machines make one run. Exit status: 0 every property satisfied (and, for check, the search
+complete), 1 otherwise, 2 bad usage. Faults (sensitivity tests): ";
 
 /// Which model to check.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -91,6 +101,7 @@ pub(crate) struct Options {
     pub(crate) bytes: usize,
     pub(crate) operators: usize,
     pub(crate) views: Views,
+    pub(crate) seeds: std::ops::Range<u64>,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -113,6 +124,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut bytes = reach::TRIVIAL.bytes;
     let mut operators = cooperation_models::network::OPERATORS;
     let mut views = Views::Identifiers;
+    let mut seeds = 0..100;
     let mut rest = args.iter();
     while let Some(flag) = rest.next() {
         if flag == "--no-symmetry" {
@@ -169,6 +181,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 };
             }
             "--depth" => stop.depth = Some(number()?),
+            "--seeds" => seeds = seed_range(value)?,
             "--timeout" => {
                 stop.timeout = Some(std::time::Duration::from_secs(number()? as u64));
             }
@@ -232,7 +245,22 @@ fn parse(args: &[String]) -> Result<Options, String> {
         bytes,
         operators,
         views,
+        seeds,
     })
+}
+
+/// `A..B`: the seeds from A up to but not including B.
+fn seed_range(text: &str) -> Result<std::ops::Range<u64>, String> {
+    let bad = || format!("--seeds takes A..B, with A and B numbers and A below B, not {text:?}");
+    let (start, end) = text.split_once("..").ok_or_else(bad)?;
+    let (start, end): (u64, u64) = (
+        start.parse().map_err(|_| bad())?,
+        end.parse().map_err(|_| bad())?,
+    );
+    if start >= end {
+        return Err(bad());
+    }
+    Ok(start..end)
 }
 
 fn replay(file: &str) -> Result<bool, String> {
@@ -336,6 +364,7 @@ fn main() -> ExitCode {
         }
         Some((command, rest)) if command == "check" => parse(rest).and_then(|o| checks::run(&o)),
         Some((command, rest)) if command == "reach" => reach::run(rest),
+        Some((command, rest)) if command == "simulate" => parse(rest).and_then(|o| swarm::run(&o)),
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
         Some((command, [file])) if command == "replay" => replay(file),
         Some((command, rest)) if command == "diagrams" => diagrams(rest),

@@ -27,7 +27,7 @@ use properties::{observe_delivery, observe_owner, observe_publish, REJECTION_CHA
 
 use crate::budget::Halt;
 use crate::describe::{describe, short};
-use crate::ids::{index, ModelError, MAX_SCENES};
+use crate::ids::{index, ModelError, MAX_SMALL_SCENES};
 use crate::Fault;
 
 /// The most operators that act at once, and how many do unless the model says otherwise
@@ -116,7 +116,7 @@ pub struct NetStep {
     /// Command messages in flight from each operator (a multiset, sorted).
     pub commands: [Vec<CommandMessage>; OPERATORS],
     /// How many times each identifier became live (saturating).
-    pub incarnation: [u8; MAX_SCENES],
+    pub incarnation: [u8; MAX_SMALL_SCENES],
     /// Sticky flags of broken step properties.
     pub broken: u8,
 }
@@ -148,9 +148,9 @@ impl NetworkModel {
     /// # Errors
     /// If `scenes` is not 1 to 8.
     pub fn new(bounds: NetBounds) -> Result<Self, ModelError> {
-        if !(1..=MAX_SCENES).contains(&bounds.scenes) {
+        if !(1..=MAX_SMALL_SCENES).contains(&bounds.scenes) {
             return Err(ModelError::Bounds(format!(
-                "scenes must be 1 to {MAX_SCENES}"
+                "scenes must be 1 to {MAX_SMALL_SCENES}"
             )));
         }
         let config = Config {
@@ -266,7 +266,7 @@ impl NetworkModel {
             views: Default::default(),
             statuses: Default::default(),
             commands: Default::default(),
-            incarnation: [0; MAX_SCENES],
+            incarnation: [0; MAX_SMALL_SCENES],
             broken: 0,
         })
     }

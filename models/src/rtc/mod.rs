@@ -33,7 +33,7 @@ use serde::{Deserialize, Serialize};
 use stateright::{Model, Property};
 
 use crate::budget::Halt;
-use crate::ids::{ModelError, MAX_SCENES};
+use crate::ids::{ModelError, MAX_SMALL_SCENES};
 
 pub use call::{
     alphabet, describe, request, state_name, Call, Order, FINISH_DISTANCE, START_DISTANCE,
@@ -111,9 +111,9 @@ impl RtcModel {
                 "interfaces must be 1 to {most}"
             )));
         }
-        if !(1..=MAX_SCENES).contains(&scenes) {
+        if !(1..=MAX_SMALL_SCENES).contains(&scenes) {
             return Err(ModelError::Bounds(format!(
-                "scenes must be 1 to {MAX_SCENES}"
+                "scenes must be 1 to {MAX_SMALL_SCENES}"
             )));
         }
         if live == 0 || retired == 0 {

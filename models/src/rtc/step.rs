@@ -7,7 +7,7 @@ use std::sync::Arc;
 use cooperation::rtc::{Rtc, RtcError};
 use cooperation::{Retirement, Rule, Scene, SceneId, State};
 
-use crate::ids::{index, MAX_SCENES};
+use crate::ids::{index, MAX_SMALL_SCENES};
 
 use super::call::Order;
 
@@ -226,13 +226,13 @@ pub struct RtcStep {
     pub stalled: bool,
     /// The interface whose status update registered each remembered identifier, as the model
     /// saw it (by identifier number minus one).
-    pub registrar: [Option<Interface>; MAX_SCENES],
+    pub registrar: [Option<Interface>; MAX_SMALL_SCENES],
     /// Sticky flags of broken step properties.
     pub broken: Broken,
     /// An injected fault's memory (upstream's stored commands); `None` without that fault.
     pub stash: Option<Arc<Vec<Order>>>,
     /// Each identifier's route, from [`Rtc::owner`]: derived from `core` and `rtc`.
-    owners: [Option<Interface>; MAX_SCENES],
+    owners: [Option<Interface>; MAX_SMALL_SCENES],
     /// Whether the retirement order is part of the state (the retired set can forget).
     order_matters: bool,
     /// Set on a representative only: hash the identifiers' signatures sorted, so every
@@ -247,7 +247,7 @@ pub struct RtcStep {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Digest {
     rest: u64,
-    ids: [u64; MAX_SCENES],
+    ids: [u64; MAX_SMALL_SCENES],
 }
 
 fn digest_of(value: &impl Hash) -> u64 {
@@ -273,7 +273,7 @@ impl RtcStep {
             rtc,
             last: None,
             stalled: false,
-            registrar: [None; MAX_SCENES],
+            registrar: [None; MAX_SMALL_SCENES],
             broken: Broken::default(),
             stash: None,
             owners,
@@ -387,7 +387,7 @@ impl RtcStep {
         index(id).and_then(|i| self.registrar.get(i).copied().flatten())
     }
 
-    fn signatures(&self) -> [Signature<'_>; MAX_SCENES] {
+    fn signatures(&self) -> [Signature<'_>; MAX_SMALL_SCENES] {
         core::array::from_fn(|i| {
             let id = SceneId::from_u128(i as u128 + 1);
             (
@@ -401,7 +401,7 @@ impl RtcStep {
 }
 
 /// Each model identifier's route.
-fn owners(core: &State, rtc: &Rtc) -> [Option<Interface>; MAX_SCENES] {
+fn owners(core: &State, rtc: &Rtc) -> [Option<Interface>; MAX_SMALL_SCENES] {
     core::array::from_fn(|i| {
         let binding = rtc.owner(core, SceneId::from_u128(i as u128 + 1))?;
         let at = rtc

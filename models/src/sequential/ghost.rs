@@ -3,30 +3,89 @@
 
 use cooperation::{Input, Module, PolicySetting, Rejection, Rule, SceneId, State, Transition};
 
-use super::Step;
+use super::{Step, MODULES, STRANGER};
 use crate::ids::{index, MAX_SCENES};
 use crate::spec::rules::verdict;
 use crate::spec::Tables;
 
 /// History variables: what the properties about steps need to remember. Indexed by identifier
 /// number minus one (the model's identifiers are `1..=scenes`), so they never allocate.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub struct Ghost {
-    /// The module each identifier was first live under.
-    pub owners: [Option<Module>; MAX_SCENES],
+    /// The module each identifier was first live under, as a byte ([`code`]): a state is
+    /// compared and hashed once per input tried, and bytes compare and hash as one block.
+    #[serde(serialize_with = "as_list")]
+    pub(super) owners: [u8; MAX_SCENES],
     /// Every identifier ever retired, as a bit set.
-    pub retired_ever: u8,
+    pub retired_ever: u64,
     /// Sticky flags: which step properties some step so far has broken.
     pub broken: Broken,
 }
 
+impl Default for Ghost {
+    fn default() -> Self {
+        Self {
+            owners: [0; MAX_SCENES],
+            retired_ever: 0,
+            broken: Broken::default(),
+        }
+    }
+}
+
+/// An owner as a byte: 0 for none, then the model's modules in [`MODULES`] order, then
+/// [`STRANGER`]; any other module (no model configures one) is [`UNLISTED`], which reads back
+/// as no module, so a scene of such a module would break `ID_MOVED` loudly, never silently.
+fn code(module: Module) -> u8 {
+    MODULES
+        .iter()
+        .map(|(listed, _)| *listed)
+        .chain([STRANGER])
+        .position(|listed| listed == module)
+        .and_then(|i| u8::try_from(i + 1).ok())
+        .unwrap_or(UNLISTED)
+}
+
+/// The code of a module the model does not list.
+const UNLISTED: u8 = u8::MAX;
+
+/// The module a byte of [`code`] stands for.
+fn decode(code: u8) -> Option<Module> {
+    let at = usize::from(code).checked_sub(1)?;
+    MODULES
+        .iter()
+        .map(|(listed, _)| *listed)
+        .chain([STRANGER])
+        .nth(at)
+}
+
+/// The owners as a list of modules, up to the last identifier that has one.
+fn as_list<S: serde::Serializer>(
+    owners: &[u8; MAX_SCENES],
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    let used = owners.iter().rposition(|o| *o != 0).map_or(0, |i| i + 1);
+    serializer.collect_seq(owners.iter().take(used).map(|o| decode(*o)))
+}
+
 impl Ghost {
+    /// One past the index of the last identifier the history knows of (an owner or a
+    /// retirement); every identifier from there on is unknown to it.
+    pub(super) fn known(&self) -> usize {
+        let owned = self
+            .owners
+            .iter()
+            .rposition(|o| *o != 0)
+            .map_or(0, |i| i + 1);
+        let retired = (u64::BITS - self.retired_ever.leading_zeros()) as usize;
+        owned.max(retired)
+    }
+
     pub(super) fn was_retired(&self, id: SceneId) -> bool {
-        index(id).is_some_and(|i| self.retired_ever & (1 << i) != 0)
+        index(id).is_some_and(|i| self.retired_ever & (1_u64 << i) != 0)
     }
 
     pub(super) fn owner(&self, id: SceneId) -> Option<Module> {
-        index(id).and_then(|i| self.owners.get(i).copied().flatten())
+        index(id).and_then(|i| self.owners.get(i).and_then(|o| decode(*o)))
     }
 }
 
@@ -214,7 +273,12 @@ pub(super) fn observe(
     }
     for (id, scene) in core.scenes() {
         let slot = index(id).and_then(|i| ghost.owners.get_mut(i));
-        let owner = slot.map(|slot| *slot.get_or_insert(scene.module()));
+        let owner = slot.and_then(|slot| {
+            if *slot == 0 {
+                *slot = code(scene.module());
+            }
+            decode(*slot)
+        });
         ghost
             .broken
             .set(Broken::ID_MOVED, owner != Some(scene.module()));
@@ -222,7 +286,7 @@ pub(super) fn observe(
     }
     for (id, retirement) in core.retirements() {
         if let Some(i) = index(id) {
-            ghost.retired_ever |= 1 << i;
+            ghost.retired_ever |= 1_u64 << i;
         }
         let changed = old
             .retirement(id)
@@ -251,9 +315,9 @@ pub(super) fn observe(
             .chain(old.scenes().map(|(id, _)| id));
         for id in known.filter(vanished) {
             if let Some(i) = index(id) {
-                ghost.retired_ever &= !(1 << i);
+                ghost.retired_ever &= !(1_u64 << i);
                 if let Some(slot) = ghost.owners.get_mut(i) {
-                    *slot = None;
+                    *slot = 0;
                 }
             }
         }

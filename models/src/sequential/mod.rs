@@ -34,7 +34,7 @@ pub use properties::{properties, rule_property, INVARIANTS};
 pub use step::Step;
 
 /// The modules a model draws from, with their default policies: the first `modules` of these.
-pub const MODULES: [(Module, Policy); 4] = [
+pub const MODULES: [(Module, Policy); 8] = [
     (Module::new(Behavior::LaneChange), Policy::Optional),
     (
         Module::with_sequence(Behavior::Avoidance, Sequence::Change),
@@ -42,6 +42,10 @@ pub const MODULES: [(Module, Policy); 4] = [
     ),
     (Module::new(Behavior::Intersection), Policy::Optional),
     (Module::new(Behavior::Crosswalk), Policy::Required),
+    (Module::new(Behavior::TrafficSignal), Policy::Optional),
+    (Module::new(Behavior::StopSign), Policy::Required),
+    (Module::new(Behavior::NoStoppingArea), Policy::Optional),
+    (Module::new(Behavior::Merge), Policy::Required),
 ];
 
 /// A module that is never configured: inputs naming it explore the "no policy" rejections.
@@ -50,7 +54,7 @@ pub const STRANGER: Module = Module::new(Behavior::RunOut);
 /// The size of a model: how many modules and identifiers, and the core's limits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Bounds {
-    /// Configured modules (1 to 4), alternately optional and required by default.
+    /// Configured modules (1 to 8), alternately optional and required by default.
     pub modules: usize,
     /// Scene identifiers, `1..=scenes`.
     pub scenes: usize,

@@ -188,20 +188,34 @@ impl Step {
                 None
             }
         };
-        // Every identifier's signature; identifiers nothing is known of sort last.
+        // Every identifier's signature; identifiers nothing is known of sort last. Those past the
+        // last one known of are all unknown and already last, in order: they keep their names.
+        let known = core
+            .scenes()
+            .map(|(id, _)| id)
+            .chain(core.retired().map(|(id, _)| id))
+            .filter_map(index)
+            .map(|i| i + 1)
+            .fold(self.ghost.known(), usize::max);
         let mut signed: [_; MAX_SCENES] = core::array::from_fn(|i| {
             let id = SceneId::from_u128(i as u128 + 1);
-            let signature = (
-                core.scene(id),
-                core.retirement(id),
-                self.ghost.owner(id),
-                self.ghost.was_retired(id),
-                position(id),
-            );
+            let signature = if i < known {
+                (
+                    core.scene(id),
+                    core.retirement(id),
+                    self.ghost.owner(id),
+                    self.ghost.was_retired(id),
+                    position(id),
+                )
+            } else {
+                (None, None, None, false, None)
+            };
             let unknown = signature == (None, None, None, false, None);
             ((unknown, signature), i)
         });
-        signed.sort_unstable();
+        if let Some(prefix) = signed.get_mut(..known) {
+            prefix.sort_unstable();
+        }
         let mut names = [0; MAX_SCENES];
         for (new, (_, old)) in signed.iter().enumerate() {
             if let Some(name) = names.get_mut(*old) {
@@ -227,8 +241,8 @@ impl Step {
             {
                 *slot = *owner;
             }
-            if self.ghost.retired_ever & (1 << old) != 0 {
-                ghost.retired_ever |= 1 << new;
+            if self.ghost.retired_ever & (1_u64 << old) != 0 {
+                ghost.retired_ever |= 1_u64 << new;
             }
         }
         Some(Self::new(
