@@ -1,6 +1,7 @@
 //! The checker command fails loudly: it stops at the first violation with its shortest
 //! counterexample saved, and a run that would outgrow its budget ends with a report, the word
-//! "incomplete" and a non-zero exit status, never as a process the system had to kill.
+//! "incomplete" and a non-zero exit status, never as a process the system had to kill. The swarm
+//! simulator exits 1 on a violation, with a trace that replays.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -191,4 +192,90 @@ fn a_depth_bound_is_reported_as_such() {
         stdout.contains("depth 3,"),
         "stateright counts the initial state: {stdout}"
     );
+}
+
+/// Runs `cooperation-models simulate` with `args`; gives the exit code, standard output and
+/// standard error.
+fn simulate(args: &[&str]) -> (Option<i32>, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .arg("simulate")
+        .args(args)
+        .output()
+        .expect("the simulator runs");
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+/// `simulate`'s limits, as its usage states them: seeds `A..B` with A below B, 1 to 8 modules,
+/// 1 to 64 identifiers; anything else is bad usage (status 2), said plainly.
+#[test]
+fn simulate_refuses_what_its_usage_does_not_allow() {
+    for (args, says) in [
+        (&["--seeds", "5..5"][..], "--seeds takes A..B"),
+        (&["--seeds", "7"][..], "--seeds takes A..B"),
+        (&["--modules", "9"][..], "modules must be 1 to 8"),
+        (&["--scenes", "65"][..], "scenes must be 1 to 64"),
+    ] {
+        let (code, _, stderr) = simulate(args);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    }
+}
+
+/// A passing swarm exits 0 with its report; a swarm that finds a violation exits 1, names the
+/// walk's seed, and saves a trace that `replay` replays to the violation (status 1 too).
+#[test]
+fn simulate_exits_one_on_a_violation_with_a_trace_that_replays() {
+    let large = [
+        "--modules",
+        "8",
+        "--scenes",
+        "64",
+        "--live",
+        "32",
+        "--retired",
+        "16",
+    ];
+    let (code, stdout, _) = simulate(&[&large[..], &["--seeds", "0..4"]].concat());
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(stdout.contains("| COOP-REG-FULL.1 |"), "{stdout}");
+    assert!(
+        stdout.contains("no property violated in 4 walks"),
+        "{stdout}"
+    );
+
+    let out = std::env::temp_dir().join(format!("cooperation-swarm-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let faulty = [
+        "--seeds",
+        "0..4",
+        "--fault",
+        "CommandToggles",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ];
+    let (code, stdout, _) = simulate(&[&large[..], &faulty[..]].concat());
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("stopped at the first violation: walk"),
+        "{stdout}"
+    );
+    assert_eq!(saved(&out), 1);
+    let trace = std::fs::read_dir(&out)
+        .expect("saved")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|x| x == "json"))
+        .expect("a trace");
+    let replay = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .arg("replay")
+        .arg(&trace)
+        .output()
+        .expect("replays");
+    let replayed = String::from_utf8_lossy(&replay.stdout);
+    assert_eq!(replay.status.code(), Some(1), "{replayed}");
+    assert!(replayed.contains("the property is violated"), "{replayed}");
 }
