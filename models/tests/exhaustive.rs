@@ -69,10 +69,11 @@ fn two_modules_three_scenes() {
 }
 
 /// Three modules × 3 scene identifiers (at most 2 live), to completion, depth first with
-/// symmetry reduction on 2 threads: about 5 minutes, so not part of the test command; CI runs
-/// it as a step of its own (`cargo test -p cooperation-models --test exhaustive -- --ignored`).
+/// symmetry reduction on 2 threads: about 5 minutes in a release build and 8 in this test
+/// profile (debug assertions on), so not part of the test command; CI runs it as a step of its
+/// own (`cargo test -p cooperation-models --test exhaustive -- --ignored`).
 #[test]
-#[ignore = "about 5 minutes on 2 cores; CI runs it as a step of its own"]
+#[ignore = "about 8 minutes on 2 cores; CI runs it as a step of its own"]
 fn three_modules_three_scenes() {
     let report = run(Bounds::new(3, 3), 2, Strategy::Dfs, true);
     assert_eq!(
