@@ -6,13 +6,22 @@
 use core::cmp::Ordering;
 use core::hash::{Hash, Hasher};
 
+#[cfg(feature = "serde")]
+mod exact;
+
 /// A pose in the map frame: a position and an orientation quaternion (`geometry_msgs/Pose`).
+///
+/// With the `serde` feature its coordinates are written as [`Distance`] says, exactly for
+/// every bit pattern (`"NaN:0x"` and 16 hexadecimal digits for a NaN).
 #[derive(Clone, Copy, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Pose {
     /// `x`, `y`, `z` in metres.
+    #[cfg_attr(feature = "serde", serde(with = "exact::array"))]
     pub position: [f64; 3],
     /// `x`, `y`, `z`, `w`.
+    #[cfg_attr(feature = "serde", serde(with = "exact::array"))]
     pub orientation: [f64; 4],
 }
 
@@ -60,9 +69,26 @@ impl Ord for Pose {
 }
 
 /// A distance along the path in metres (`float32` on the wire). Compares by bit pattern.
+///
+/// With the `serde` feature, a finite distance is a number and a non-finite one a string
+/// (`"inf"`, `"-inf"`, `"NaN:0x7fc00000"`: the NaN's bits), so that every distance is read
+/// back exactly; a number beyond the range of `f32` is refused.
 #[derive(Clone, Copy, Debug, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Distance(pub f32);
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for Distance {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serde::Serialize::serialize(&exact::Exact(self.0), serializer)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for Distance {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        <exact::Exact<f32> as serde::Deserialize>::deserialize(deserializer).map(|e| Self(e.0))
+    }
+}
 
 impl PartialEq for Distance {
     fn eq(&self, other: &Self) -> bool {
@@ -174,6 +200,7 @@ pub enum FactorKind {
 /// A scene's geometry, by kind. The kind is fixed at registration (spec `[COOP-OWN-KIND.1]`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub enum Geometry {
     /// A velocity scene: where it is and how far ahead.
     Velocity {

@@ -91,20 +91,21 @@ impl core::str::FromStr for SceneId {
         let invalid = || InvalidSceneId {
             given: text.to_owned(),
         };
-        let hyphenated = text.len() == 36;
-        if hyphenated {
-            let hyphens_in_place = text
-                .char_indices()
-                .all(|(at, c)| matches!(at, 8 | 13 | 18 | 23) == (c == '-'));
-            if !hyphens_in_place {
-                return Err(invalid());
-            }
-        } else if text.len() != 32 {
-            return Err(invalid());
-        }
+        // Bytes, not characters: a valid UUID is ASCII, and any other byte fails as a digit.
+        let hyphen_at: &[usize] = match text.len() {
+            32 => &[],
+            36 => &[8, 13, 18, 23],
+            _ => return Err(invalid()),
+        };
         let mut value: u128 = 0;
-        for c in text.chars().filter(|c| *c != '-') {
-            let digit = c.to_digit(16).ok_or_else(invalid)?;
+        for (at, byte) in text.bytes().enumerate() {
+            if hyphen_at.contains(&at) {
+                if byte != b'-' {
+                    return Err(invalid());
+                }
+                continue;
+            }
+            let digit = char::from(byte).to_digit(16).ok_or_else(invalid)?;
             value = (value << 4) | u128::from(digit);
         }
         Ok(Self::from_u128(value))
@@ -160,12 +161,29 @@ mod tests {
             "g1234567-89ab-cdef-0011-223344556677",
             "0123456789abcdef00112233445566+7",
             "01234567-89ab-cdef-0011-2233445566\u{e9}",
+            // Hyphens count only where the 8-4-4-4-12 form puts them.
+            "--------------------------------",
+            "-000000000000000000000000000abcd",
+            "0123456789abcdef00112233445566-7",
+            "01234567-89ab-cdef-0011-22334455667-",
+            "01234567089ab-cdef-0011-223344556677",
         ] {
             assert!(bad.parse::<SceneId>().is_err(), "{bad}");
         }
     }
 
     proptest::proptest! {
+        /// A string parses only if it is one of the two documented forms of the identifier it
+        /// gives, in either case.
+        #[test]
+        fn parses_only_the_documented_forms(text in "[0-9a-fA-F-]{30,37}") {
+            if let Ok(id) = text.parse::<SceneId>() {
+                let canonical = id.to_string();
+                let lower = text.to_ascii_lowercase();
+                proptest::prop_assert!(lower == canonical || lower == canonical.replace('-', ""), "{text}");
+            }
+        }
+
         /// Identifiers order as their bytes do, and the bytes and the number read back.
         #[test]
         fn order_is_byte_order(a in proptest::array::uniform16(0u8..), b in proptest::array::uniform16(0u8..)) {

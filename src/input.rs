@@ -8,6 +8,7 @@ use crate::{Decision, Geometry, Module, OperatorDecision, Phase, Policy, SceneId
 /// `SetCommands` and `SetPolicies`; the system clock sends `Tick`.
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub enum Input {
     /// A module opens a scene under an identifier it chose (`[COOP-REG-NEW.1]`).
     Register {
@@ -69,6 +70,7 @@ pub enum Input {
 /// One operator command: an operator decision for the scene with this identifier.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Command {
     /// The scene.
     pub id: SceneId,
@@ -79,6 +81,7 @@ pub struct Command {
 /// One policy setting: the cooperation policy for a module.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct PolicySetting {
     /// The module.
     pub module: Module,

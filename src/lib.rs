@@ -49,6 +49,8 @@
     clippy::indexing_slicing
 )]
 
+#[cfg(feature = "serde")]
+mod base64;
 mod decision;
 mod geometry;
 mod id;

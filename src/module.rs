@@ -188,6 +188,7 @@ impl FromStr for Sequence {
 /// Cooperation policies are held per module (spec §3).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Module {
     /// The behaviour.
     pub behavior: Behavior,

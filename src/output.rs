@@ -10,6 +10,7 @@ use crate::{
 /// A live scene as an operator sees it (AD API `CooperationStatus`, `[COOP-OUT-STATUS.1]`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperationStatus {
     /// The scene. AD API `uuid`.
     pub id: SceneId,
@@ -36,6 +37,7 @@ impl CooperationStatus {
 /// A velocity scene as a factor (AD API `VelocityFactor`).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct VelocityFactor {
     /// Where the vehicle would stop or slow down.
     pub pose: Pose,
@@ -54,6 +56,7 @@ pub struct VelocityFactor {
 /// A steering scene as a factor (AD API `SteeringFactor`).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct SteeringFactor {
     /// Start and end of the steering section.
     pub poses: [Pose; 2],
@@ -319,6 +322,7 @@ pub struct CommandsResponse {
 /// The AD API `ResponseStatus`: success, a code and a message (`[COOP-API-STATUS.1]`).
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct ResponseStatus {
     /// Whether the call did what was asked.
     pub success: bool,

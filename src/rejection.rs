@@ -40,6 +40,7 @@ impl fmt::Display for RetireReason {
 /// What the core remembers of a retired identifier.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Retirement {
     /// The module the scene belonged to.
     pub module: Module,
@@ -101,6 +102,7 @@ pub enum CommandOutcome {
 /// Why an input was rejected. The state is left exactly as it was.
 #[derive(Clone, PartialEq, Eq, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 #[non_exhaustive]
 pub enum Rejection {
     /// `[COOP-REG-LIVE.1]`: the identifier is already a live scene of this module.

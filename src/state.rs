@@ -17,6 +17,7 @@ use crate::{
 /// limits.
 #[derive(Clone, PartialEq, Eq, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Config {
     /// Every module that supports cooperation, with its default policy. Only these modules can
     /// have scenes (`[COOP-REG-MODULE.1]`) and policies (`[COOP-POL-UNKNOWN.1]`).
@@ -38,6 +39,7 @@ impl Config {
 /// The bounds that keep memory and work finite.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Limits {
     /// A scene whose owner has not updated it for longer than this expires
     /// (`[COOP-TIME-EXPIRE.1]`). Default 10 000 ms.
@@ -59,6 +61,22 @@ impl Default for Limits {
             retired_capacity: 65_536,
             max_batch: 1_024,
         }
+    }
+}
+
+impl Limits {
+    /// Whether these limits can work: every one that bounds a count is at least 1.
+    fn check(&self) -> Result<(), ConfigError> {
+        if self.max_scenes == 0 {
+            return Err(ConfigError::NoScenes);
+        }
+        if self.retired_capacity == 0 {
+            return Err(ConfigError::NoRetiredCapacity);
+        }
+        if self.max_batch == 0 {
+            return Err(ConfigError::NoBatch);
+        }
+        Ok(())
     }
 }
 
@@ -88,6 +106,7 @@ impl std::error::Error for ConfigError {}
 /// A live scene: what the rules read and write.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Scene {
     module: Module,
     phase: Phase,
@@ -294,7 +313,8 @@ impl core::fmt::Debug for Policies {
 /// deterministic.
 ///
 /// With the `serde` feature a state serializes with its maps as lists, and deserializes only if
-/// it passes [`State::check_invariants`].
+/// [`State::new`] would accept its limits, no module, scene or retired identifier is listed
+/// twice, and it passes [`State::check_invariants`]: only a state the core can hold reads back.
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(into = "raw::State", try_from = "raw::State"))]
@@ -314,15 +334,7 @@ impl State {
     /// A [`ConfigError`] if a limit is zero.
     pub fn new(config: Config) -> Result<Self, ConfigError> {
         let Config { policies, limits } = config;
-        if limits.max_scenes == 0 {
-            return Err(ConfigError::NoScenes);
-        }
-        if limits.retired_capacity == 0 {
-            return Err(ConfigError::NoRetiredCapacity);
-        }
-        if limits.max_batch == 0 {
-            return Err(ConfigError::NoBatch);
-        }
+        limits.check()?;
         Ok(Self {
             limits,
             policies: policies.into_iter().collect(),
@@ -933,45 +945,5 @@ impl State {
     }
 }
 
-/// The serialized form of a [`State`]: maps as lists, so that any format can carry it.
 #[cfg(feature = "serde")]
-mod raw {
-    use super::{Limits, Module, Policy, Retirement, Scene, SceneId, Violation};
-
-    #[derive(serde::Serialize, serde::Deserialize)]
-    pub(super) struct State {
-        limits: Limits,
-        policies: Vec<(Module, Policy)>,
-        scenes: Vec<(SceneId, Scene)>,
-        retired: Vec<(SceneId, Retirement)>,
-        retired_order: Vec<SceneId>,
-    }
-
-    impl From<super::State> for State {
-        fn from(state: super::State) -> Self {
-            Self {
-                limits: state.limits,
-                policies: state.policies.iter().collect(),
-                scenes: state.scenes.into_iter().collect(),
-                retired: state.retired.into_iter().collect(),
-                retired_order: state.retired_order.into_iter().collect(),
-            }
-        }
-    }
-
-    impl TryFrom<State> for super::State {
-        type Error = Violation;
-
-        fn try_from(raw: State) -> Result<Self, Violation> {
-            let state = Self {
-                limits: raw.limits,
-                policies: raw.policies.into_iter().collect(),
-                scenes: raw.scenes.into_iter().collect(),
-                retired: raw.retired.into_iter().collect(),
-                retired_order: raw.retired_order.into_iter().collect(),
-            };
-            state.check_invariants()?;
-            Ok(state)
-        }
-    }
-}
+mod raw;

@@ -288,7 +288,10 @@ fn find<'b>(
 /// the live and retired identifiers; so the routes never hold more than the core can remember
 /// plus one.
 fn prune(routes: &mut BTreeMap<SceneId, usize>, state: &crate::State) {
-    if routes.len() > state.scene_count() + state.limits().retired_capacity {
+    let remembered = state
+        .scene_count()
+        .saturating_add(state.limits().retired_capacity);
+    if routes.len() > remembered {
         routes.retain(|id, _| state.scene(*id).is_some() || state.retirement(*id).is_some());
     }
 }

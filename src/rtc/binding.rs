@@ -25,6 +25,7 @@ pub enum Kind {
 /// scenes.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Binding {
     /// The interface name, for example `lane_change_left`.
     pub name: String,

@@ -14,6 +14,7 @@ use super::{FieldError, ModuleType};
 /// `unique_identifier_msgs/UUID`.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Uuid {
     /// The 16 bytes, most significant first. In JSON an array of 16 numbers; a base64 string of
     /// 16 bytes (rosbridge's encoding of `uint8` arrays) is accepted when reading.
@@ -38,11 +39,36 @@ impl From<Uuid> for SceneId {
 /// `builtin_interfaces/Time`.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "TimeFields"))]
 pub struct Time {
     /// Seconds.
     pub sec: i32,
     /// Nanoseconds within the second, below 1 000 000 000.
     pub nanosec: u32,
+}
+
+/// A [`Time`] as written, before its `nanosec` is checked.
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TimeFields {
+    sec: i32,
+    nanosec: u32,
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<TimeFields> for Time {
+    type Error = String;
+
+    /// Refuses a `nanosec` of a whole second or more: such a time has a second form.
+    fn try_from(TimeFields { sec, nanosec }: TimeFields) -> Result<Self, String> {
+        if nanosec >= 1_000_000_000 {
+            return Err(format!(
+                "field `nanosec`: {nanosec} is not below 1000000000 (a second)"
+            ));
+        }
+        Ok(Self { sec, nanosec })
+    }
 }
 
 impl Time {
@@ -53,17 +79,21 @@ impl Time {
     }
 
     /// This time moved back by `ms` milliseconds, saturating at the earliest representable
-    /// time.
+    /// time. A `nanosec` of a second or more (which no decoded message holds) counts as the
+    /// seconds it makes, and a result past the latest representable time saturates there.
     #[must_use]
     pub fn before_ms(self, ms: u64) -> Self {
         const NANOS: i64 = 1_000_000_000;
+        // Neither product nor sum can overflow: |sec| < 2^31 and nanosec < 2^32.
         let now = i64::from(self.sec) * NANOS + i64::from(self.nanosec);
         let back = i64::try_from(ms)
             .unwrap_or(i64::MAX)
             .saturating_mul(1_000_000);
-        let then = now.saturating_sub(back).max(i64::from(i32::MIN) * NANOS);
+        let earliest = i64::from(i32::MIN) * NANOS;
+        let latest = i64::from(i32::MAX) * NANOS + (NANOS - 1);
+        let then = now.saturating_sub(back).clamp(earliest, latest);
         Self {
-            sec: i32::try_from(then.div_euclid(NANOS)).unwrap_or(i32::MIN),
+            sec: i32::try_from(then.div_euclid(NANOS)).unwrap_or(i32::MAX),
             nanosec: u32::try_from(then.rem_euclid(NANOS)).unwrap_or(0),
         }
     }
@@ -72,6 +102,7 @@ impl Time {
 /// `tier4_rtc_msgs/Command`: an operator's command, or a scene's command status.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Command {
     /// [`DEACTIVATE`](Self::DEACTIVATE) or [`ACTIVATE`](Self::ACTIVATE).
     #[cfg_attr(feature = "serde", serde(rename = "type"))]
@@ -119,6 +150,7 @@ impl From<Decision> for Command {
 /// `tier4_rtc_msgs/State`: where a scene is in its lifecycle.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct State {
     /// One of the five constants.
     #[cfg_attr(feature = "serde", serde(rename = "type"))]
@@ -179,6 +211,7 @@ impl From<Phase> for State {
 /// numbering (see [`ModuleType`] for the numbering before April 2023).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Module {
     /// One of the constants.
     #[cfg_attr(feature = "serde", serde(rename = "type"))]
@@ -260,6 +293,7 @@ fn named(error: FieldError, outer: &str) -> FieldError {
 /// `tier4_rtc_msgs/CooperateStatus`: one scene as an RTC interface publishes it.
 #[derive(Clone, Copy, PartialEq, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperateStatus {
     /// When the scene's owner last reported it.
     pub stamp: Time,
@@ -341,6 +375,7 @@ impl CooperateStatus {
 /// `tier4_rtc_msgs/CooperateStatusArray`.
 #[derive(Clone, PartialEq, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperateStatusArray {
     /// When the array was published.
     pub stamp: Time,
@@ -369,6 +404,7 @@ impl CooperateStatusArray {
 /// `tier4_rtc_msgs/CooperateCommand`: an operator's command for one scene.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperateCommand {
     /// The scene.
     pub uuid: Uuid,
@@ -400,6 +436,7 @@ impl CooperateCommand {
 /// `tier4_rtc_msgs/CooperateResponse`: the answer for one command.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperateResponse {
     /// The command's scene.
     pub uuid: Uuid,
@@ -412,6 +449,7 @@ pub struct CooperateResponse {
 /// `tier4_rtc_msgs/AutoModeStatus`: whether an interface's scenes proceed without approval.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct AutoModeStatus {
     /// The interface's module type.
     pub module: Module,
@@ -422,6 +460,7 @@ pub struct AutoModeStatus {
 /// `tier4_rtc_msgs/AutoModeStatusArray`.
 #[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct AutoModeStatusArray {
     /// When the array was published.
     pub stamp: Time,
@@ -432,6 +471,7 @@ pub struct AutoModeStatusArray {
 /// The request of `tier4_rtc_msgs/srv/CooperateCommands`.
 #[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperateCommandsRequest {
     /// When it was sent (not read, as upstream).
     pub stamp: Time,
@@ -460,6 +500,7 @@ impl CooperateCommandsRequest {
 /// The response of `tier4_rtc_msgs/srv/CooperateCommands`.
 #[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CooperateCommandsResponse {
     /// One response per command, in request order.
     pub responses: Vec<CooperateResponse>,
@@ -468,6 +509,7 @@ pub struct CooperateCommandsResponse {
 /// The request of `tier4_rtc_msgs/srv/AutoMode`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct AutoModeRequest {
     /// Turn auto mode on or off.
     pub enable: bool,
@@ -476,6 +518,7 @@ pub struct AutoModeRequest {
 /// The response of `tier4_rtc_msgs/srv/AutoMode`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct AutoModeResponse {
     /// Whether it was done.
     pub success: bool,
@@ -484,6 +527,7 @@ pub struct AutoModeResponse {
 /// The request of `tier4_rtc_msgs/srv/AutoModeWithModule`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct AutoModeWithModuleRequest {
     /// The module type whose interfaces to switch.
     pub module: Module,
@@ -494,6 +538,7 @@ pub struct AutoModeWithModuleRequest {
 /// The response of `tier4_rtc_msgs/srv/AutoModeWithModule`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct AutoModeWithModuleResponse {
     /// Whether it was done.
     pub success: bool,
@@ -501,96 +546,4 @@ pub struct AutoModeWithModuleResponse {
 
 /// A UUID's bytes in JSON: an array of 16 numbers, or rosbridge's base64 string.
 #[cfg(feature = "serde")]
-mod uuid_bytes {
-    use core::fmt;
-
-    use serde::de::{Error, SeqAccess, Visitor};
-
-    pub(super) fn deserialize<'de, D: serde::Deserializer<'de>>(
-        deserializer: D,
-    ) -> Result<[u8; 16], D::Error> {
-        deserializer.deserialize_any(Bytes)
-    }
-
-    struct Bytes;
-
-    impl<'de> Visitor<'de> for Bytes {
-        type Value = [u8; 16];
-
-        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-            f.write_str("16 bytes: an array of 16 numbers from 0 to 255, or a base64 string")
-        }
-
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
-            let mut bytes = [0; 16];
-            for (index, byte) in bytes.iter_mut().enumerate() {
-                *byte = seq
-                    .next_element()?
-                    .ok_or_else(|| A::Error::invalid_length(index, &self))?;
-            }
-            if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
-                return Err(A::Error::invalid_length(17, &self));
-            }
-            Ok(bytes)
-        }
-
-        fn visit_str<E: Error>(self, text: &str) -> Result<Self::Value, E> {
-            decode_base64(text)
-                .ok_or_else(|| E::invalid_value(serde::de::Unexpected::Str(text), &self))
-        }
-    }
-
-    /// 16 bytes from standard base64, with or without its `==` padding.
-    fn decode_base64(text: &str) -> Option<[u8; 16]> {
-        let digits = match text.len() {
-            22 => text,
-            24 => text.strip_suffix("==")?,
-            _ => return None,
-        };
-        let mut bytes = [0u8; 16];
-        let mut filled = 0;
-        let mut bits: u32 = 0;
-        let mut count = 0;
-        for c in digits.bytes() {
-            let value = match c {
-                b'A'..=b'Z' => c - b'A',
-                b'a'..=b'z' => c - b'a' + 26,
-                b'0'..=b'9' => c - b'0' + 52,
-                b'+' => 62,
-                b'/' => 63,
-                _ => return None,
-            };
-            bits = (bits << 6) | u32::from(value);
-            count += 6;
-            if count >= 8 {
-                count -= 8;
-                *bytes.get_mut(filled)? = u8::try_from((bits >> count) & 0xff).ok()?;
-                filled += 1;
-                bits &= (1 << count) - 1;
-            }
-        }
-        // 22 digits carry 132 bits: 16 bytes and 4 bits that must be zero.
-        (filled == 16 && bits == 0).then_some(bytes)
-    }
-
-    #[cfg(test)]
-    mod tests {
-        use super::decode_base64;
-
-        #[test]
-        fn base64_of_16_bytes() {
-            let bytes: [u8; 16] = core::array::from_fn(|i| u8::try_from(i * 17).unwrap());
-            // The standard encoding of 00 11 22 … ff.
-            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u/w=="), Some(bytes));
-            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u/w"), Some(bytes));
-            assert_eq!(
-                decode_base64("ABEiM0RVZneImaq7zN3u/x=="),
-                None,
-                "stray low bits"
-            );
-            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u/w="), None);
-            assert_eq!(decode_base64("ABEiM0RVZneImaq7zN3u-w=="), None);
-            assert_eq!(decode_base64(""), None);
-        }
-    }
-}
+mod uuid_bytes;
