@@ -55,7 +55,7 @@ mod decision;
 mod geometry;
 mod id;
 mod input;
-mod invariant;
+
 mod module;
 mod output;
 mod phase;
@@ -74,7 +74,7 @@ pub use geometry::{
 };
 pub use id::{InvalidSceneId, SceneId};
 pub use input::{Command, Input, PolicySetting};
-pub use invariant::{Invariant, Violation};
+
 pub use module::{Behavior, Module, Sequence, UnknownName};
 pub use output::{
     CommandsResponse, CooperationStatus, FactorLists, ResponseStatus, SteeringFactor,
@@ -84,7 +84,7 @@ pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};
 pub use rule::Rule;
 pub use shared::Shared;
-pub use state::{Config, ConfigError, Limits, Scene, State, Transition};
+pub use state::{Config, ConfigError, Invariant, Limits, Scene, State, Transition, Violation};
 pub use table::TableLayout;
 
 pub mod guide {

@@ -247,7 +247,7 @@ fn default_limits_are_the_specs() {
     assert_eq!(trace_format, code, "docs/trace-format.md");
     // The field docs: `pub NAME: TYPE,` preceded by a doc comment ending "Default N." or
     // "Default N ms.".
-    let source = read("src/state.rs");
+    let source = read("src/state/config.rs");
     let limits = source
         .split("pub struct Limits {")
         .nth(1)
