@@ -58,6 +58,7 @@ enum Plan<'a> {
     Tick {
         elapsed_ms: u64,
         expired: Vec<SceneId>,
+        rule: Rule,
     },
     /// `[COOP-CMD-APPLY.1]`.
     Commands(&'a [Command]),
@@ -262,6 +263,7 @@ impl State {
             Plan::Tick {
                 elapsed_ms,
                 expired,
+                rule,
             } => {
                 for scene in self.scenes.values_mut() {
                     scene.age_ms = scene.age_ms.saturating_add(elapsed_ms);
@@ -269,11 +271,6 @@ impl State {
                 for id in &expired {
                     self.retire(*id, RetireReason::Expired);
                 }
-                let rule = if expired.is_empty() {
-                    Rule::TimeAge
-                } else {
-                    Rule::TimeExpire
-                };
                 Transition {
                     rule,
                     retired: expired,
@@ -465,10 +462,17 @@ impl State {
             .map(|(id, _)| id)
             .collect();
         expired.sort_unstable();
-        // [COOP-TIME-AGE.1] when nothing expires; [COOP-TIME-EXPIRE.1] otherwise.
+        let rule = if expired.is_empty() {
+            // [COOP-TIME-AGE.1]
+            Rule::TimeAge
+        } else {
+            // [COOP-TIME-EXPIRE.1]
+            Rule::TimeExpire
+        };
         Plan::Tick {
             elapsed_ms,
             expired,
+            rule,
         }
     }
 
@@ -480,8 +484,7 @@ impl State {
         self.check_batch_len(commands.len())?;
         let failures = self.command_failures(commands);
         if let Some(&(index, failure)) = failures.first() {
-            // [COOP-CMD-UNKNOWN.1] [COOP-CMD-RETIRED.1] [COOP-CMD-NOT-CANCELLABLE.1]
-            // [COOP-CMD-DUPLICATE.1]: the first failure in batch order names the rule.
+            // The first failure in batch order names the rule (`command_failures` tags each).
             let mut outcomes = vec![CommandOutcome::Withheld; commands.len()];
             for &(at, failure) in &failures {
                 if let Some(outcome) = outcomes.get_mut(at) {
@@ -509,16 +512,20 @@ impl State {
         let mut failures = Vec::new();
         for (index, command) in commands.iter().enumerate() {
             let failure = if commands.len() > 1 && !seen.insert(command.id) {
+                // [COOP-CMD-DUPLICATE.1]
                 Some(CommandFailure::DuplicateId)
             } else {
                 match (self.scenes.get(command.id), self.retired.get(&command.id)) {
+                    // [COOP-CMD-NOT-CANCELLABLE.1]
                     (Some(scene), _) if !scene.is_cancellable() => {
                         Some(CommandFailure::NotCancellable(scene.phase))
                     }
                     (Some(_), _) => None,
+                    // [COOP-CMD-RETIRED.1]
                     (None, Some(retirement)) => {
                         Some(CommandFailure::RetiredScene(retirement.reason))
                     }
+                    // [COOP-CMD-UNKNOWN.1]
                     (None, None) => Some(CommandFailure::UnknownScene),
                 }
             };

@@ -128,14 +128,94 @@ fn every_tag_has_a_test_named_after_it() {
     }
 }
 
+/// The functions of `src/state.rs` that decide (the guards), as `(name, body lines)`: every
+/// function whose name starts with `decide`, and the helpers they call to check.
+fn decision_path(source: &str) -> Vec<(String, Vec<String>)> {
+    const HELPERS: [&str; 3] = ["owned_scene", "command_failures", "check_batch_len"];
+    let lines: Vec<&str> = source.lines().collect();
+    let mut functions = Vec::new();
+    for (start, line) in lines.iter().enumerate() {
+        let Some(rest) = line.trim_start().strip_prefix("fn ") else {
+            continue;
+        };
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        if !(name.starts_with("decide") || HELPERS.contains(&name.as_str())) {
+            continue;
+        }
+        // The body: to the line that closes the function, at the indentation it opened at.
+        let indent = &line[..line.len() - line.trim_start().len()];
+        let end = (start..lines.len())
+            .find(|&at| lines[at] == format!("{indent}}}"))
+            .expect("the function closes");
+        functions.push((
+            name,
+            lines[start..=end].iter().map(|l| l.to_string()).collect(),
+        ));
+    }
+    functions
+}
+
+/// Every rule's tag sits at its guard, in the function that decides it: a comment naming that
+/// one tag, directly above the code that checks or chooses (an `if`, a match arm, the outcome
+/// built). No comment on the decision path names two rules, so one combined comment cannot
+/// stand for several guards.
 #[test]
-fn rule_arms_are_tagged_in_the_transition_function() {
-    let state_rs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/state.rs"))
+fn every_rule_is_tagged_at_its_guard() {
+    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/state.rs"))
         .expect("readable");
+    let functions = decision_path(&source);
+    assert!(
+        functions.len() >= 8,
+        "found {} deciding functions",
+        functions.len()
+    );
+    let tag_in = |line: &str| -> Vec<String> {
+        line.split('[')
+            .skip(1)
+            .filter_map(|part| part.split_once(']'))
+            .map(|(tag, _)| tag.to_owned())
+            .filter(|tag| tag.starts_with("COOP-"))
+            .collect()
+    };
+    let mut at_guard = BTreeMap::<String, String>::new();
+    for (name, body) in &functions {
+        for (at, line) in body.iter().enumerate() {
+            let comment = line.trim_start();
+            if !comment.starts_with("//") {
+                continue;
+            }
+            let tags = tag_in(comment);
+            assert!(
+                tags.len() <= 1,
+                "`{name}` names several rules in one comment: {comment}"
+            );
+            let Some(tag) = tags.into_iter().next() else {
+                continue;
+            };
+            let code = body[at + 1..]
+                .iter()
+                .map(|l| l.trim())
+                .find(|l| !l.starts_with("//"))
+                .unwrap_or_default();
+            let guard = code.starts_with("if ")
+                || code.contains("=>")
+                || ["return ", "Ok(", "Err(", "Some(", "Rule::", "self.", "let "]
+                    .iter()
+                    .any(|start| code.starts_with(start));
+            assert!(
+                guard,
+                "`{name}`: [{tag}] is followed by `{code}`, not a guard"
+            );
+            at_guard.insert(tag, name.clone());
+        }
+    }
     for rule in Rule::ALL {
         assert!(
-            state_rs.contains(&format!("[{}]", rule.tag())),
-            "{} has no tagged arm",
+            at_guard.contains_key(rule.tag()),
+            "{} is not tagged at a guard of the decision path",
             rule.tag()
         );
     }
