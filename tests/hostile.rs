@@ -495,3 +495,17 @@ proptest! {
         }
     }
 }
+
+/// The example of `docs/wire.md`: `…Dw==` is bytes 0 to 15; `…Dx==` sets bits past them.
+#[test]
+fn the_documented_base64_example() {
+    let read = |text: &str| {
+        cooperation::wire::from_json::<cooperation::wire::Uuid>(
+            format!(r#"{{"uuid": "{text}"}}"#).as_bytes(),
+        )
+    };
+    let bytes: Vec<u8> = (0..16).collect();
+    assert_eq!(read("AAECAwQFBgcICQoLDA0ODw==").expect("canonical").uuid, bytes);
+    let error = read("AAECAwQFBgcICQoLDA0ODx==").expect_err("stray bits");
+    assert!(error.to_string().contains("past the end of the data"), "{error}");
+}

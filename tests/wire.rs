@@ -1053,11 +1053,13 @@ fn a_giant_batch_is_the_cores_batch_limit_and_changes_nothing() {
         r#"{{"uuid": {{"uuid": {}}}, "cooperator": {{"decision": 1}}}}"#,
         list(B)
     );
-    let request = format!(r#"{{"commands": [{}]}}"#, vec![entry; 100_000].join(","));
+    // As large a batch as a request under the size limit holds.
+    let request = format!(r#"{{"commands": [{}]}}"#, vec![entry; 8_000].join(","));
+    assert!(request.len() <= wire::MAX_REQUEST_BYTES);
     let response = json(&Service::SetCommands.call_json(&mut state, request.as_bytes()));
     assert_eq!(
         response["status"]["message"],
-        format!("the batch has 100000 entries; at most {MAX_BATCH} are accepted")
+        format!("the batch has 8000 entries; at most {MAX_BATCH} are accepted")
     );
     assert_eq!(state, before);
 }
@@ -1074,7 +1076,8 @@ fn deep_nesting_is_refused_where_the_messages_end() {
             "]".repeat(depth)
         );
         let fault = command_fault(&request);
-        assert_eq!(fault.path().to_string(), "commands[0][0][0][0]");
+        // The list form: the command's first field, the UUID's first field, its first byte.
+        assert_eq!(fault.path().to_string(), "commands[0].uuid.uuid[0]");
         assert!(
             fault
                 .to_string()
@@ -1102,7 +1105,7 @@ fn deep_nesting_is_refused_where_the_messages_end() {
 #[test]
 fn long_strings_are_quoted_short_in_messages() {
     let mut state = with_scenes();
-    let behavior = "x".repeat(1 << 20);
+    let behavior = "x".repeat(1 << 19);
     let request = format!(r#"{{"policies": [{{"behavior": "{behavior}", "policy": 1}}]}}"#);
     let fault = policy_fault(&request);
     assert_eq!(
@@ -1115,20 +1118,20 @@ fn long_strings_are_quoted_short_in_messages() {
     let message = fault.to_string();
     assert!(message.len() < 200, "{} bytes", message.len());
     assert!(
-        message.contains(&format!("… ({} bytes)", 1 << 20)),
+        message.contains(&format!("… ({} bytes)", 1 << 19)),
         "{message}"
     );
     refused(&mut state, Service::SetPolicies, &request, &fault);
 
     // The reader's explanations quote the input too; they are shortened in the middle.
-    let field = "y".repeat(1 << 20);
+    let field = "y".repeat(1 << 19);
     let request = format!(r#"{{"policies": [{{"{field}": 1}}]}}"#);
     let fault = policy_fault(&request);
     assert_eq!(fault.path().segments()[2], PathSegment::Field(field));
     let message = fault.to_string();
     assert!(message.starts_with(&format!("policies[0].{}…: unknown field", "y".repeat(64))));
     assert!(message.len() < 700, "{} bytes", message.len());
-    assert!(message.ends_with("line 1 column 1048593"), "{message}");
+    assert!(message.ends_with("line 1 column 524305"), "{message}");
     refused(&mut state, Service::SetPolicies, &request, &fault);
 
     // A UUID given as a megabyte of base64 is a UUID of the wrong length.

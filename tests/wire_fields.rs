@@ -1,10 +1,11 @@
 //! The wire module against the message definitions (`tests/data/messages.txt`): every JSON
-//! field name, in order and of the right kind, and every constant with its value and width.
+//! field name, in order and of the right kind, and every constant with its value and width; and
+//! that every message refuses each of its fields given twice.
 
 use std::collections::BTreeMap;
 use std::fmt;
 
-use cooperation::wire;
+use cooperation::wire::{self, Malformed};
 use serde::de::{Deserialize, Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde_json::Value;
 
@@ -446,4 +447,60 @@ fn read_back(name: &str, text: &[u8]) -> Value {
         "SteeringFactor" => again::<SteeringFactor>(text),
         other => panic!("no float fields in {other}"),
     }
+}
+
+/// Every field of `T` given twice, each in turn: refused where the message is, naming the
+/// field. Returns how many fields `T` has.
+fn each_field_twice<
+    T: serde::de::DeserializeOwned + serde::Serialize + Default + std::fmt::Debug,
+>() -> usize {
+    let serde_json::Value::Object(fields) = serde_json::to_value(T::default()).expect("writes")
+    else {
+        panic!("a message is an object")
+    };
+    for (name, value) in &fields {
+        let value = value.to_string();
+        let text = format!(r#"{{"{name}": {value}, "{name}": {value}}}"#);
+        let fault = wire::from_json::<T>(text.as_bytes()).expect_err(&text);
+        assert!(
+            matches!(fault, Malformed::Shape { .. }),
+            "{text}: {fault:?}"
+        );
+        assert!(fault.path().is_root(), "{text}: {fault}");
+        assert!(
+            fault
+                .to_string()
+                .starts_with(&format!("duplicate field `{name}`")),
+            "{text}: {fault}"
+        );
+    }
+    fields.len()
+}
+
+#[test]
+fn a_field_given_twice_is_refused_in_every_message() {
+    let counts = [
+        each_field_twice::<wire::Time>(),
+        each_field_twice::<wire::Header>(),
+        each_field_twice::<wire::Point>(),
+        each_field_twice::<wire::Quaternion>(),
+        each_field_twice::<wire::Pose>(),
+        each_field_twice::<wire::Uuid>(),
+        each_field_twice::<wire::CooperationDecision>(),
+        each_field_twice::<wire::CooperationStatus>(),
+        each_field_twice::<wire::CooperationCommand>(),
+        each_field_twice::<wire::CooperationPolicy>(),
+        each_field_twice::<wire::VelocityFactor>(),
+        each_field_twice::<wire::VelocityFactorArray>(),
+        each_field_twice::<wire::SteeringFactor>(),
+        each_field_twice::<wire::SteeringFactorArray>(),
+        each_field_twice::<wire::ResponseStatus>(),
+        each_field_twice::<wire::SetCooperationCommandsRequest>(),
+        each_field_twice::<wire::SetCooperationCommandsResponse>(),
+        each_field_twice::<wire::SetCooperationPoliciesRequest>(),
+        each_field_twice::<wire::SetCooperationPoliciesResponse>(),
+        each_field_twice::<wire::GetCooperationPoliciesRequest>(),
+        each_field_twice::<wire::GetCooperationPoliciesResponse>(),
+    ];
+    assert_eq!(counts.iter().sum::<usize>(), 52, "{counts:?}");
 }

@@ -1,6 +1,13 @@
 //! What can be wrong with a message, and where.
 
-use core::fmt;
+use core::fmt::{self, Write as _};
+
+use serde::de::value;
+use serde::de::{
+    DeserializeOwned, DeserializeSeed, Deserializer, Error as _, IntoDeserializer, MapAccess,
+    SeqAccess, Visitor,
+};
+use serde_path_to_error::Segment;
 
 /// One step of a [`FieldPath`]: a field by name, or a list entry by position.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
@@ -63,10 +70,14 @@ impl fmt::Display for FieldPath {
                     if n > 0 {
                         f.write_str(".")?;
                     }
-                    // A field name can come from the input (an unknown field): keep it short.
+                    // A field name can come from the input (an unknown field): keep it short,
+                    // on one line.
                     match name.char_indices().nth(QUOTED) {
-                        None => f.write_str(name)?,
-                        Some((end, _)) => write!(f, "{}…", name.get(..end).unwrap_or_default())?,
+                        None => escaped(f, name)?,
+                        Some((end, _)) => {
+                            escaped(f, name.get(..end).unwrap_or_default())?;
+                            f.write_str("…")?;
+                        }
                     }
                 }
                 PathSegment::Index(index) => write!(f, "[{index}]")?,
@@ -77,19 +88,218 @@ impl fmt::Display for FieldPath {
 }
 
 impl From<&serde_path_to_error::Path> for FieldPath {
+    /// The reader's path as it is: a list entry by position, a field by name.
     fn from(path: &serde_path_to_error::Path) -> Self {
-        use serde_path_to_error::Segment;
-        Self(
-            path.iter()
-                .map(|segment| match segment {
-                    Segment::Seq { index } => PathSegment::Index(*index),
-                    Segment::Map { key } => PathSegment::Field(key.clone()),
-                    Segment::Enum { variant } => PathSegment::Field(variant.clone()),
-                    // Not produced by this module's types; kept visible rather than dropped.
-                    Segment::Unknown => PathSegment::Field("?".to_owned()),
+        Self(path.iter().map(plain).collect())
+    }
+}
+
+/// One step of the reader's path as it is.
+fn plain(segment: &Segment) -> PathSegment {
+    match segment {
+        Segment::Seq { index } => PathSegment::Index(*index),
+        Segment::Map { key } => PathSegment::Field(key.clone()),
+        Segment::Enum { variant } => PathSegment::Field(variant.clone()),
+        // Not produced by this module's types; kept visible rather than dropped.
+        Segment::Unknown => PathSegment::Field("?".to_owned()),
+    }
+}
+
+// -------------------------------------------------------------------------------------------
+// Naming the fields of a message given as a list
+// -------------------------------------------------------------------------------------------
+
+/// The type of the value at the end of a path, where the reader names it.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(super) enum Leaf {
+    /// A message, a list, a string, or a value the reader took as any JSON.
+    Other,
+    /// A number of this type, e.g. `a 32-bit float (f32)`.
+    Number(&'static str),
+}
+
+impl FieldPath {
+    /// The reader's `path` into a `T`, each position in a message given as a list of its field
+    /// values (as rosbridge allows) replaced by that field's name, so that `[0][0][1][0]`
+    /// becomes `commands[0].cooperator.decision`; and the type of the value at its end.
+    ///
+    /// The names are the message's own, as `T`'s deserializer declares them: the path is
+    /// walked by deserializing a `T` from a reader that holds nothing but the path.
+    pub(super) fn named<T: DeserializeOwned>(path: &serde_path_to_error::Path) -> (Self, Leaf) {
+        let reader: Vec<&Segment> = path.iter().collect();
+        let mut named = Vec::with_capacity(reader.len());
+        let mut leaf = Leaf::Other;
+        // The walk always ends in an error of its own, where the path ends.
+        let _stopped = T::deserialize(Walk {
+            rest: &reader,
+            named: &mut named,
+            leaf: &mut leaf,
+        });
+        // Steps the walk did not reach keep the reader's form.
+        let reached = named.len();
+        named.extend(
+            reader
+                .get(reached..)
+                .unwrap_or_default()
+                .iter()
+                .map(|s| plain(s)),
+        );
+        (Self(named), leaf)
+    }
+}
+
+/// A deserializer that follows a path and names each step; see [`FieldPath::named`].
+struct Walk<'p, 'w> {
+    /// The steps not yet taken.
+    rest: &'p [&'p Segment],
+    /// The steps taken, named.
+    named: &'w mut Vec<PathSegment>,
+    /// The type at the end, once reached.
+    leaf: &'w mut Leaf,
+}
+
+/// The end of a walk.
+fn stop() -> value::Error {
+    value::Error::custom("the end of the path")
+}
+
+impl<'de> Walk<'_, '_> {
+    /// One step into a message (whose fields are `fields`) or a list (no `fields`).
+    fn step<V: Visitor<'de>>(
+        self,
+        fields: &'static [&'static str],
+        visitor: V,
+    ) -> Result<V::Value, value::Error> {
+        let Some((segment, rest)) = self.rest.split_first() else {
+            return Err(stop());
+        };
+        let next = Walk {
+            rest,
+            named: &mut *self.named,
+            leaf: &mut *self.leaf,
+        };
+        match segment {
+            // A message given as a list: the position is a field.
+            Segment::Seq { index } => match fields.get(*index) {
+                Some(name) => {
+                    next.named.push(PathSegment::Field((*name).to_owned()));
+                    visitor.visit_map(Entry {
+                        key: Some(name),
+                        value: Some(next),
+                    })
+                }
+                None => {
+                    next.named.push(PathSegment::Index(*index));
+                    visitor.visit_seq(Element(Some(next)))
+                }
+            },
+            Segment::Map { key } => {
+                next.named.push(PathSegment::Field(key.clone()));
+                visitor.visit_map(Entry {
+                    key: Some(key),
+                    value: Some(next),
                 })
-                .collect(),
-        )
+            }
+            Segment::Enum { .. } | Segment::Unknown => Err(stop()),
+        }
+    }
+
+    /// A number: the end of any path.
+    fn number(self, kind: &'static str) -> value::Error {
+        if self.rest.is_empty() {
+            *self.leaf = Leaf::Number(kind);
+        }
+        stop()
+    }
+}
+
+macro_rules! numbers {
+    ($($method:ident: $kind:literal),* $(,)?) => {
+        $(fn $method<V: Visitor<'de>>(self, _visitor: V) -> Result<V::Value, value::Error> {
+            Err(self.number($kind))
+        })*
+    };
+}
+
+impl<'de> Deserializer<'de> for Walk<'_, '_> {
+    type Error = value::Error;
+
+    fn deserialize_any<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, value::Error> {
+        self.step(&[], visitor)
+    }
+
+    fn deserialize_struct<V: Visitor<'de>>(
+        self,
+        _name: &'static str,
+        fields: &'static [&'static str],
+        visitor: V,
+    ) -> Result<V::Value, value::Error> {
+        self.step(fields, visitor)
+    }
+
+    numbers! {
+        deserialize_u8: "an 8-bit unsigned integer (u8)",
+        deserialize_u16: "a 16-bit unsigned integer (u16)",
+        deserialize_u32: "a 32-bit unsigned integer (u32)",
+        deserialize_u64: "a 64-bit unsigned integer (u64)",
+        deserialize_i8: "an 8-bit integer (i8)",
+        deserialize_i16: "a 16-bit integer (i16)",
+        deserialize_i32: "a 32-bit integer (i32)",
+        deserialize_i64: "a 64-bit integer (i64)",
+        deserialize_f32: "a 32-bit float (f32)",
+        deserialize_f64: "a 64-bit float (f64)",
+    }
+
+    serde::forward_to_deserialize_any! {
+        bool i128 u128 char str string bytes byte_buf option unit unit_struct newtype_struct
+        seq tuple tuple_struct map enum identifier ignored_any
+    }
+}
+
+/// A message of one field: the next step.
+struct Entry<'p, 'w> {
+    key: Option<&'p str>,
+    value: Option<Walk<'p, 'w>>,
+}
+
+impl<'de> MapAccess<'de> for Entry<'_, '_> {
+    type Error = value::Error;
+
+    fn next_key_seed<K: DeserializeSeed<'de>>(
+        &mut self,
+        seed: K,
+    ) -> Result<Option<K::Value>, value::Error> {
+        match self.key.take() {
+            Some(key) => seed.deserialize(key.into_deserializer()).map(Some),
+            None => Ok(None),
+        }
+    }
+
+    fn next_value_seed<V: DeserializeSeed<'de>>(
+        &mut self,
+        seed: V,
+    ) -> Result<V::Value, value::Error> {
+        match self.value.take() {
+            Some(walk) => seed.deserialize(walk),
+            None => Err(stop()),
+        }
+    }
+}
+
+/// A list of one entry: the next step.
+struct Element<'p, 'w>(Option<Walk<'p, 'w>>);
+
+impl<'de> SeqAccess<'de> for Element<'_, '_> {
+    type Error = value::Error;
+
+    fn next_element_seed<T: DeserializeSeed<'de>>(
+        &mut self,
+        seed: T,
+    ) -> Result<Option<T::Value>, value::Error> {
+        match self.0.take() {
+            Some(walk) => seed.deserialize(walk).map(Some),
+            None => Ok(None),
+        }
     }
 }
 
@@ -102,7 +312,7 @@ impl From<&serde_path_to_error::Path> for FieldPath {
 #[derive(Clone, PartialEq, Eq, Debug)]
 #[non_exhaustive]
 pub enum Malformed {
-    /// The bytes are not JSON: bad syntax, or the text ends early.
+    /// The bytes are not JSON: bad syntax, the text ends early, or text follows the message.
     NotJson {
         /// Where the reader was.
         path: FieldPath,
@@ -181,6 +391,16 @@ pub enum Malformed {
         /// The frame given.
         given: String,
     },
+    /// A request longer than [`MAX_REQUEST_BYTES`](super::MAX_REQUEST_BYTES), refused before
+    /// it is read. The path is the request's own (the root).
+    TooLarge {
+        /// The request itself.
+        path: FieldPath,
+        /// Its length in bytes.
+        len: usize,
+        /// The most bytes a request may have.
+        max: usize,
+    },
 }
 
 impl Malformed {
@@ -197,7 +417,8 @@ impl Malformed {
             | Self::UnknownSequence { path, .. }
             | Self::TooManyCooperation { path, .. }
             | Self::NoCooperation { path }
-            | Self::Frame { path, .. } => path,
+            | Self::Frame { path, .. }
+            | Self::TooLarge { path, .. } => path,
         }
     }
 
@@ -212,7 +433,8 @@ impl Malformed {
             | Self::UnknownSequence { path, .. }
             | Self::TooManyCooperation { path, .. }
             | Self::NoCooperation { path }
-            | Self::Frame { path, .. } => path,
+            | Self::Frame { path, .. }
+            | Self::TooLarge { path, .. } => path,
         }
     }
 
@@ -274,15 +496,28 @@ impl fmt::Display for Explained<'_> {
         let text = self.0;
         let chars = text.chars().count();
         if chars <= EXPLAINED {
-            return f.write_str(text);
+            return escaped(f, text);
         }
         let head = EXPLAINED * 2 / 3;
         let tail = EXPLAINED - head;
         let offset = |n: usize| text.char_indices().nth(n).map_or(text.len(), |(at, _)| at);
-        let start = text.get(..offset(head)).unwrap_or_default();
-        let end = text.get(offset(chars - tail)..).unwrap_or_default();
-        write!(f, "{start} … {end}")
+        escaped(f, text.get(..offset(head)).unwrap_or_default())?;
+        f.write_str(" … ")?;
+        escaped(f, text.get(offset(chars - tail)..).unwrap_or_default())
     }
+}
+
+/// Text from the input on one line: control characters (line breaks, terminal escapes) are
+/// written as Rust escapes, `\n`, `\u{1b}`.
+fn escaped(f: &mut fmt::Formatter<'_>, text: &str) -> fmt::Result {
+    for c in text.chars() {
+        if c.is_control() {
+            write!(f, "{}", c.escape_default())?;
+        } else {
+            f.write_char(c)?;
+        }
+    }
+    Ok(())
 }
 
 impl fmt::Display for Malformed {
@@ -328,6 +563,12 @@ impl fmt::Display for Malformed {
                     f,
                     "{}; factor poses are in the \"map\" frame",
                     Quoted(given)
+                )
+            }
+            Self::TooLarge { len, max, .. } => {
+                write!(
+                    f,
+                    "the request is {len} bytes long; at most {max} bytes are read"
                 )
             }
         }

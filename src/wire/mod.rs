@@ -12,7 +12,8 @@
 //! - **Services**: [`set_commands`], [`set_policies`] and [`get_policies`] take the request
 //!   message and answer with the response message, following the AD API's `ResponseStatus`
 //!   conventions; [`velocity_factors`] and [`steering_factors`] are the two streams.
-//!   [`Service::call_json`] does a whole call from JSON bytes to JSON bytes and never panics.
+//!   [`Service::call_json`] does a whole call from JSON bytes to JSON bytes and never panics;
+//!   it reads requests of at most [`MAX_REQUEST_BYTES`].
 //!
 //! Nothing here decides anything: what a batch may contain, which scenes exist, which modules
 //! have policies are the core's rules, applied by [`State::apply`](crate::State::apply); a
@@ -85,5 +86,5 @@ pub use msg::{
 };
 pub use service::{
     from_json, get_policies, set_commands, set_policies, steering_factors, to_json,
-    velocity_factors, Service, FRAME_ID,
+    velocity_factors, Service, FRAME_ID, MAX_REQUEST_BYTES,
 };

@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use crate::State;
 
+use super::error::Leaf;
 use super::{
     FieldPath, GetCooperationPoliciesRequest, GetCooperationPoliciesResponse, Header, Malformed,
     SetCooperationCommandsRequest, SetCooperationCommandsResponse, SetCooperationPoliciesRequest,
@@ -88,41 +89,109 @@ pub fn steering_factors(state: &State, stamp: Time) -> SteeringFactorArray {
     }
 }
 
-/// Reads a message from JSON as rosbridge writes it. Nesting deeper than 128 levels is
-/// refused, so no input exhausts the stack; memory grows with the input's length only.
+/// The most bytes a service request may have: [`Service::call_json`] refuses a longer one
+/// with [`Malformed::TooLarge`] before reading it. 1 MiB: the largest batch the core accepts
+/// by default (1 024 entries) takes under 400 KiB written out at its most verbose
+/// (pretty-printed, UUIDs as lists of numbers).
+pub const MAX_REQUEST_BYTES: usize = 1 << 20;
+
+/// Reads a message from JSON as rosbridge writes it, of any length (a request on its way to
+/// a service is first held to [`MAX_REQUEST_BYTES`] by [`Service::call_json`]). The reader
+/// never builds more than the message itself: memory grows with the input's length only, on
+/// success and on failure, and nesting deeper than the message is refused where the message
+/// ends.
 ///
 /// # Errors
-/// [`Malformed::NotJson`] for bad syntax or an early end, [`Malformed::Shape`] for JSON of
-/// another shape; both name where the reader was.
+/// [`Malformed::NotJson`] for bad syntax, an early end or text after the message,
+/// [`Malformed::Shape`] for JSON of another shape; both name where the reader was, by field
+/// name also in a message given as a list of its field values.
 pub fn from_json<T: DeserializeOwned>(json: &[u8]) -> Result<T, Malformed> {
-    let fault = |path: FieldPath, error: serde_json::Error| {
-        if error.is_data() {
-            Malformed::Shape {
-                path,
-                detail: error.to_string(),
-            }
-        } else if serde_json::from_slice::<serde_json::Value>(json).is_ok() {
-            // The text is JSON (strings checked too), yet the reader met more than it expected:
-            // a list longer than the message or fixed-size array it stands for.
-            Malformed::Shape {
-                path,
-                detail: format!("a list with more values than its field takes: {error}"),
-            }
-        } else {
-            Malformed::NotJson {
-                path,
-                detail: error.to_string(),
-            }
-        }
-    };
     let mut reader = serde_json::Deserializer::from_slice(json);
-    let message = serde_path_to_error::deserialize(&mut reader)
-        .map_err(|error| fault(error.path().into(), error.into_inner()))?;
+    let message = serde_path_to_error::deserialize(&mut reader).map_err(|error| {
+        let (path, leaf) = FieldPath::named::<T>(error.path());
+        fault(json, path, leaf, &error.into_inner())
+    })?;
     // Text after the message, other than white space, is not JSON of one message.
-    reader
-        .end()
-        .map_err(|error| fault(FieldPath::root(), error))?;
+    reader.end().map_err(|error| Malformed::NotJson {
+        path: FieldPath::root(),
+        detail: error.to_string(),
+    })?;
     Ok(message)
+}
+
+/// How the JSON reader says a number does not fit the type it is read as.
+const OUT_OF_RANGE: &str = "number out of range";
+/// How the JSON reader says a list goes on where its reader expected it to end.
+const TRAILING: &str = "trailing characters";
+
+/// The fault of a message the reader stopped in, at `path`, ending at a `leaf`.
+fn fault(json: &[u8], path: FieldPath, leaf: Leaf, error: &serde_json::Error) -> Malformed {
+    let detail = error.to_string();
+    if error.is_data() {
+        return Malformed::Shape { path, detail };
+    }
+    if error.is_syntax() {
+        if detail.starts_with(OUT_OF_RANGE) {
+            // A number in JSON's grammar, too large for its field's type.
+            return Malformed::Shape {
+                detail: out_of_range(json, leaf, error),
+                path,
+            };
+        }
+        if detail.starts_with(TRAILING) && is_json(json) {
+            // The text is JSON, yet the reader met more than it expected: a list longer than
+            // the message or fixed-size array it stands for.
+            return Malformed::Shape {
+                path,
+                detail: format!("a list with more values than its field takes: {detail}"),
+            };
+        }
+    }
+    Malformed::NotJson { path, detail }
+}
+
+/// Whether the text is JSON (one value, strings in UTF-8), checked without building it.
+fn is_json(json: &[u8]) -> bool {
+    core::str::from_utf8(json).is_ok()
+        && serde_json::from_slice::<serde::de::IgnoredAny>(json).is_ok()
+}
+
+/// At most this many characters of a number from the input are quoted in a message.
+const NUMBER_QUOTED: usize = 64;
+
+/// The explanation of a number too large for its field: the number as written (cut short if
+/// long), the type, and where.
+fn out_of_range(json: &[u8], leaf: Leaf, error: &serde_json::Error) -> String {
+    let (line, column) = (error.line(), error.column());
+    // The reader stops on the number's last character, `column` bytes into its line.
+    let number = json
+        .split(|&byte| byte == b'\n')
+        .nth(line.saturating_sub(1))
+        .and_then(|text| text.get(..column))
+        .map(|text| {
+            let start = text
+                .iter()
+                .rposition(|byte| !matches!(byte, b'0'..=b'9' | b'-' | b'+' | b'.' | b'e' | b'E'))
+                .map_or(0, |at| at + 1);
+            text.get(start..).unwrap_or_default()
+        })
+        .and_then(|digits| core::str::from_utf8(digits).ok())
+        .filter(|number| !number.is_empty());
+    let number = match number {
+        None => "the number".to_owned(),
+        Some(number) => match number.get(..NUMBER_QUOTED) {
+            Some(head) if number.len() > NUMBER_QUOTED => {
+                format!("{head}… ({} characters)", number.len())
+            }
+            _ => number.to_owned(),
+        },
+    };
+    let kind = match leaf {
+        Leaf::Number(kind) => kind,
+        // A value read as any JSON: its numbers are read as the widest float.
+        Leaf::Other => "a 64-bit float (f64), the widest number read from JSON",
+    };
+    format!("{number} is out of range for {kind} at line {line} column {column}")
 }
 
 /// Writes a message as JSON as rosbridge reads it (UUIDs as lists of numbers). JSON has no
@@ -182,15 +251,25 @@ impl Service {
     }
 
     /// Answers one call: the request's JSON (rosbridge's `args`) in, the response's JSON
-    /// (rosbridge's `values`) out. Never panics. Any request that does not decode is answered
-    /// `PARAMETER_ERROR` with a message naming the field, and changes nothing.
+    /// (rosbridge's `values`) out. Never panics. A request longer than [`MAX_REQUEST_BYTES`]
+    /// is refused unread ([`Malformed::TooLarge`]); any request that does not decode is
+    /// answered `PARAMETER_ERROR` with a message naming the field. Neither changes anything.
     pub fn call_json(self, state: &mut State, request: &[u8]) -> Vec<u8> {
         fn answer<Q: DeserializeOwned, R: Serialize>(
             request: &[u8],
             handle: impl FnOnce(&Q) -> R,
             refuse: impl FnOnce(Malformed) -> R,
         ) -> Vec<u8> {
-            let response = match from_json::<Q>(request) {
+            let read = if request.len() > MAX_REQUEST_BYTES {
+                Err(Malformed::TooLarge {
+                    path: FieldPath::root(),
+                    len: request.len(),
+                    max: MAX_REQUEST_BYTES,
+                })
+            } else {
+                from_json::<Q>(request)
+            };
+            let response = match read {
                 Ok(request) => handle(&request),
                 Err(malformed) => refuse(malformed),
             };
