@@ -24,6 +24,16 @@
 //! here is the one the specification's deviations (`spec/cooperation.md` §9) give;
 //! `docs/rtc.md` explains the migration call for call.
 //!
+//! # Names
+//!
+//! The messages keep their ROS names, so some share a name with a core type and mean something
+//! else: [`rtc::State`](State) is a lifecycle constant (`tier4_rtc_msgs/State`), not the core's
+//! [`State`](crate::State); [`rtc::Module`](Module) is an RTC module-type number, not a core
+//! [`Module`](crate::Module); [`rtc::Command`](Command) is a command-type number, not a core
+//! [`Command`](crate::Command). This is on purpose: each name reads as the message definition
+//! it stands for. Name them through the module (`rtc::State`, as the example does) rather than
+//! importing `rtc::*` beside `cooperation::*`.
+//!
 //! # Example
 //!
 //! ```

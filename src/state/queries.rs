@@ -66,6 +66,11 @@ impl State {
     /// renamed state behaves as this one does with the names changed, except that scenes
     /// expiring on the same tick retire in the order of their new names. Model checkers use it
     /// for symmetry reduction.
+    ///
+    /// It is public because the model checker of this crate is a crate of its own, which must
+    /// check the very `State` consumers use, through its public API. It is safe to call: it
+    /// builds a new state and changes nothing, and the state it builds holds every invariant
+    /// this one holds.
     #[must_use]
     pub fn relabel(&self, rename: impl Fn(SceneId) -> SceneId) -> Option<Self> {
         let scenes = self.scenes.like(
