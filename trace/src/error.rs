@@ -53,7 +53,11 @@ pub enum ErrorKind {
         limit: usize,
     },
     /// The line is not UTF-8.
-    NotUtf8,
+    NotUtf8 {
+        /// Where in the line the first byte that is not UTF-8 is, counted in bytes from 0
+        /// (a byte-order mark included).
+        offset: usize,
+    },
     /// The line is not the JSON the format asks for. `field` is the path to the offending
     /// value (`input.Register.geometry`, `observed[2].cancellable`), empty for the whole line.
     Json {
@@ -125,7 +129,11 @@ impl fmt::Display for ErrorKind {
                 write!(f, "the line is longer than {limit} bytes")
             }
             Self::TooManyLines { limit } => write!(f, "the trace has more than {limit} lines"),
-            Self::NotUtf8 => f.write_str("the line is not UTF-8"),
+            Self::NotUtf8 { offset } => write!(
+                f,
+                "the line is not UTF-8 at byte {offset} (column {})",
+                offset.saturating_add(1)
+            ),
             Self::Json { field, message } if field.is_empty() => f.write_str(message),
             Self::Json { field, message } => write!(f, "field `{field}`: {message}"),
             Self::NotAnObject => f.write_str("not a JSON object (`{...}`)"),

@@ -24,10 +24,12 @@
 )]
 
 mod error;
+mod json;
 mod read;
 mod record;
 mod render;
 mod replay;
+mod strict;
 mod validate;
 
 use std::io::{BufRead, Write};
@@ -42,6 +44,10 @@ pub use render::{
 };
 pub use replay::{Cause, Replayer, Sink, Step};
 pub use validate::{compare, Departure, Difference, Field, Validator, Verdict};
+
+/// The white space JSON allows between tokens, and the only white space a blank line may
+/// hold: space, tab, carriage return, line feed.
+pub(crate) const JSON_SPACE: &[char] = &[' ', '\t', '\r', '\n'];
 
 /// How to read a trace.
 #[derive(Clone, Debug, Default)]

@@ -6,8 +6,8 @@ use std::io::{self, BufRead, BufReader, Read, Write};
 use std::process::ExitCode;
 
 use cooperation_trace::{
-    parse_config, replay, validate, verdict_json, verdict_text, Options, ReadLimits, TraceError,
-    Verdict,
+    parse_config, replay, validate, verdict_json, verdict_text, ErrorKind, Options, ReadLimits,
+    TraceError, Verdict,
 };
 
 const USAGE: &str = "\
@@ -25,11 +25,54 @@ validate   replays the inputs and compares every `observed` record with the spec
 --config   the configuration (modules, default policies, limits) as a JSON file, for a trace
            without a `config` line.
 
-exit codes: 0 the trace replayed / conforms; 1 it departs (validate); 2 malformed input or
-usage.";
+exit codes: 0 the trace replayed / conforms; 1 it departs (validate); 2 malformed input,
+an unreadable file, output that cannot be written (standard output closed, a broken pipe) or
+bad usage.";
 
-/// Exit code for malformed input, unreadable files and usage errors.
+/// Exit code for malformed input, unreadable files, output that cannot be written and usage
+/// errors: the tool could not do what it was asked.
 const MALFORMED: u8 = 2;
+
+/// At most this many characters of an argument are quoted in a message.
+const QUOTED: usize = 64;
+
+/// An argument, quoted and cut short if long.
+fn quoted(arg: &str) -> String {
+    match arg.char_indices().nth(QUOTED) {
+        None => format!("{arg:?}"),
+        Some((end, _)) => format!("{:?}…", arg.get(..end).unwrap_or_default()),
+    }
+}
+
+/// Writes `error: message` on standard error. Nothing is left to say if that fails.
+fn report(message: &str) -> ExitCode {
+    let _ = writeln!(io::stderr().lock(), "error: {message}");
+    ExitCode::from(MALFORMED)
+}
+
+/// Whether standard output was closed when the tool started. The Rust runtime then opens
+/// `/dev/null` in its place, read-write, and everything written would be lost without an
+/// error; `>/dev/null` from a shell opens it write-only, and is output thrown away on purpose.
+#[cfg(unix)]
+fn stdout_closed() -> bool {
+    use std::os::fd::AsFd;
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    let Ok(fd) = io::stdout().as_fd().try_clone_to_owned() else {
+        return false;
+    };
+    let mut out = File::from(fd);
+    let (Ok(meta), Ok(null)) = (out.metadata(), std::fs::metadata("/dev/null")) else {
+        return false;
+    };
+    meta.file_type().is_char_device()
+        && meta.rdev() == null.rdev()
+        && out.read(&mut [0_u8; 1]).is_ok()
+}
+
+#[cfg(not(unix))]
+fn stdout_closed() -> bool {
+    false
+}
 
 enum Mode {
     Replay,
@@ -48,7 +91,7 @@ fn parse_args(args: &[String]) -> Result<Args, String> {
     let mode = match args.next().map(String::as_str) {
         Some("replay") => Mode::Replay,
         Some("validate") => Mode::Validate,
-        Some(other) => return Err(format!("unknown command {other:?}")),
+        Some(other) => return Err(format!("unknown command {}", quoted(other))),
         None => return Err("a command is needed".into()),
     };
     let mut json = false;
@@ -62,9 +105,11 @@ fn parse_args(args: &[String]) -> Result<Args, String> {
                 Some(_) => return Err("--config is given twice".into()),
                 None => return Err("--config needs a file".into()),
             },
-            option if option.starts_with("--") => return Err(format!("unknown option {option:?}")),
+            option if option.starts_with("--") => {
+                return Err(format!("unknown option {}", quoted(option)))
+            }
             file if trace.is_none() => trace = Some(file.to_owned()),
-            extra => return Err(format!("one trace only; {extra:?} is one too many")),
+            extra => return Err(format!("one trace only; {} is one too many", quoted(extra))),
         }
     }
     let trace = trace.ok_or("a trace file is needed (or - for standard input)")?;
@@ -79,14 +124,18 @@ fn parse_args(args: &[String]) -> Result<Args, String> {
 /// Reads a configuration file, at most one line's length of the trace.
 fn read_config(path: &str, limit: usize) -> Result<cooperation::Config, String> {
     let file = File::open(path).map_err(|error| format!("{path}: {error}"))?;
-    let mut text = String::new();
+    let mut bytes = Vec::new();
     let cap = u64::try_from(limit).unwrap_or(u64::MAX).saturating_add(1);
     file.take(cap)
-        .read_to_string(&mut text)
+        .read_to_end(&mut bytes)
         .map_err(|error| format!("{path}: {error}"))?;
-    if text.len() > limit {
+    if bytes.len() > limit {
         return Err(format!("{path}: the file is longer than {limit} bytes"));
     }
+    let text = String::from_utf8(bytes).map_err(|error| {
+        let offset = error.utf8_error().valid_up_to();
+        format!("{path}: the file is not UTF-8 at byte {offset}")
+    })?;
     parse_config(&text).map_err(|error| format!("{path}: {error}"))
 }
 
@@ -99,23 +148,30 @@ fn open(path: &str) -> Result<Box<dyn BufRead>, String> {
 }
 
 fn fail(path: &str, error: &TraceError) -> ExitCode {
-    eprintln!("error: {path}: {error}");
-    ExitCode::from(MALFORMED)
+    report(&format!("{path}: {error}"))
 }
+
+/// The error for output that cannot be written.
+const CLOSED: &str = "cannot write the output: standard output is closed";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.iter().any(|arg| arg == "--help" || arg == "-h") {
-        println!("{USAGE}");
-        return ExitCode::SUCCESS;
+        if stdout_closed() {
+            return report(CLOSED);
+        }
+        return match writeln!(io::stdout().lock(), "{USAGE}") {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(error) => report(&format!("cannot write the output: {error}")),
+        };
     }
     let args = match parse_args(&args) {
         Ok(args) => args,
-        Err(message) => {
-            eprintln!("error: {message} (see cooperation-trace --help)");
-            return ExitCode::from(MALFORMED);
-        }
+        Err(message) => return report(&format!("{message} (see cooperation-trace --help)")),
     };
+    if stdout_closed() {
+        return report(CLOSED);
+    }
     let limits = ReadLimits::default();
     let config = match args
         .config
@@ -124,17 +180,11 @@ fn main() -> ExitCode {
     {
         None => None,
         Some(Ok(config)) => Some(config),
-        Some(Err(message)) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(MALFORMED);
-        }
+        Some(Err(message)) => return report(&message),
     };
     let input = match open(&args.trace) {
         Ok(input) => input,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(MALFORMED);
-        }
+        Err(message) => return report(&message),
     };
     let options = Options { limits, config };
     let stdout = io::stdout();
@@ -145,11 +195,12 @@ fn main() -> ExitCode {
             // Whatever was replayed before an error is shown before the error.
             let flushed = out.flush();
             match (result, flushed) {
-                (Err(error), _) => fail(&args.trace, &error),
-                (Ok(_), Err(error)) => {
-                    eprintln!("error: cannot write the output: {error}");
-                    ExitCode::from(MALFORMED)
+                // The output's failure is not the trace's.
+                (Err(error), _) if matches!(error.kind, ErrorKind::Write { .. }) => {
+                    report(&error.to_string())
                 }
+                (Err(error), _) => fail(&args.trace, &error),
+                (Ok(_), Err(error)) => report(&format!("cannot write the output: {error}")),
                 (Ok(_), Ok(())) => ExitCode::SUCCESS,
             }
         }
@@ -169,10 +220,7 @@ fn main() -> ExitCode {
                     .map_err(|error| format!("cannot write the output: {error}"))
             });
             match (written, verdict) {
-                (Err(message), _) => {
-                    eprintln!("error: {message}");
-                    ExitCode::from(MALFORMED)
-                }
+                (Err(message), _) => report(&message),
                 (Ok(()), Verdict::Conforms { .. }) => ExitCode::SUCCESS,
                 (Ok(()), Verdict::Departs(_)) => ExitCode::from(1),
             }

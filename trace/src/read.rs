@@ -2,7 +2,7 @@
 
 use std::io::{BufRead, ErrorKind as IoErrorKind};
 
-use crate::{ErrorKind, TraceError};
+use crate::{ErrorKind, TraceError, JSON_SPACE};
 
 /// The bounds on what a trace reader accepts. Memory for reading is one line's buffer, at most
 /// `max_line_bytes`, reused for every line.
@@ -82,22 +82,30 @@ impl<R: BufRead> Lines<R> {
                     },
                 ));
             }
-            self.text =
-                String::from_utf8(bytes).map_err(|_| TraceError::at(line, ErrorKind::NotUtf8))?;
+            self.text = String::from_utf8(bytes).map_err(|error| {
+                let offset = error.utf8_error().valid_up_to();
+                TraceError::at(line, ErrorKind::NotUtf8 { offset })
+            })?;
             let mut text = self.text.as_str();
             if line == 1 {
                 text = text.strip_prefix('\u{feff}').unwrap_or(text);
             }
-            let trimmed = text.trim();
+            // Blank is JSON's white space only: other white space is neither blank nor JSON.
+            let trimmed = text.trim_matches(JSON_SPACE);
             if !trimmed.is_empty() && !trimmed.starts_with('#') {
-                let start = self.text.len() - text.trim_start().len();
+                let start = self.text.len() - text.trim_start_matches(JSON_SPACE).len();
                 return Ok(Some((start, start + trimmed.len())));
             }
         }
     }
 
     /// Reads one line into `bytes`, without its `\n`. `false` at the end of the input.
+    ///
+    /// The limit is on the line without its ending, `\n` or `\r\n`: one byte more is read
+    /// in case it is the `\r` of a `\r\n`, and refused if it is not.
     fn read_line(&mut self, line: usize, bytes: &mut Vec<u8>) -> Result<bool, TraceError> {
+        let limit = self.limits.max_line_bytes;
+        let too_long = || TraceError::at(line, ErrorKind::LineTooLong { limit });
         let mut read_any = false;
         loop {
             let available = match self.input.fill_buf() {
@@ -113,23 +121,25 @@ impl<R: BufRead> Lines<R> {
                 }
             };
             if available.is_empty() {
+                // The end of the input: a final `\r` is no line ending, and counts.
+                if bytes.len() > limit {
+                    return Err(too_long());
+                }
                 return Ok(read_any);
             }
             read_any = true;
             let newline = available.iter().position(|&byte| byte == b'\n');
             let content = newline.unwrap_or(available.len());
-            if bytes.len().saturating_add(content) > self.limits.max_line_bytes {
-                return Err(TraceError::at(
-                    line,
-                    ErrorKind::LineTooLong {
-                        limit: self.limits.max_line_bytes,
-                    },
-                ));
+            if bytes.len().saturating_add(content) > limit.saturating_add(1) {
+                return Err(too_long());
             }
             bytes.extend_from_slice(available.get(..content).unwrap_or_default());
             let used = newline.map_or(content, |at| at + 1);
             self.input.consume(used);
             if newline.is_some() {
+                if bytes.len() > limit && bytes.last() != Some(&b'\r') {
+                    return Err(too_long());
+                }
                 return Ok(true);
             }
         }

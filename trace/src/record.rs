@@ -1,11 +1,18 @@
 //! The records of a trace and their parsing: one JSON object per line.
 
+use core::fmt;
+use core::marker::PhantomData;
 use std::collections::BTreeSet;
 
-use cooperation::{Config, CooperationStatus, FactorKind, Input, Limits, PolicySetting};
-use serde::Deserialize;
+use cooperation::{
+    wire, Config, CooperationStatus, Decision, FactorKind, Input, Limits, Module, OperatorDecision,
+    Phase, Policy, PolicySetting, SceneId,
+};
+use serde::de::{self, Unexpected, Visitor};
+use serde::{Deserialize, Deserializer};
 
-use crate::{ErrorKind, TraceError};
+use crate::json::{from_json, json_error};
+use crate::{ErrorKind, TraceError, JSON_SPACE};
 
 /// The largest limits a trace's configuration may ask for. They bound the replayer's memory:
 /// the core holds at most `max_scenes` live scenes and `retired_capacity` retired identifiers,
@@ -55,19 +62,20 @@ pub struct Observation {
     pub factors: Option<FactorKind>,
 }
 
-/// A record as written; checked into a [`Record`] by [`parse_record`].
+/// A record as written; checked into a [`Record`] by [`parse_record`]. A field given as
+/// `null` is refused, not taken as left out.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawRecord {
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     at_ms: Option<u64>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present_input")]
     input: Option<Input>,
-    #[serde(default)]
-    observed: Option<Vec<serde_json::Value>>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
+    observed: Option<Vec<RawStatus>>,
+    #[serde(default, deserialize_with = "present_factors")]
     factors: Option<FactorKind>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     config: Option<RawConfig>,
 }
 
@@ -83,52 +91,164 @@ struct RawConfig {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawLimits {
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     ttl_ms: Option<u64>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     max_scenes: Option<usize>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     retired_capacity: Option<usize>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     max_batch: Option<usize>,
 }
 
-/// Deserializes `text` as a `T`, naming the field that fails. For a single line (`one_line`),
-/// positions are given as columns.
-fn from_json<'de, T: Deserialize<'de>>(text: &'de str, one_line: bool) -> Result<T, ErrorKind> {
-    let mut deserializer = serde_json::Deserializer::from_str(text);
-    let value = serde_path_to_error::deserialize(&mut deserializer).map_err(|error| {
-        let field = field_path(error.path());
-        ErrorKind::Json {
-            field,
-            message: json_message(&error.into_inner(), one_line),
-        }
-    })?;
-    deserializer.end().map_err(|error| ErrorKind::Json {
-        field: String::new(),
-        message: json_message(&error, one_line),
-    })?;
-    Ok(value)
+/// An observed status as written, in either form; [`RawStatus::check`] tells them apart by
+/// `uuid` and refuses a field of one form in the other.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStatus {
+    // The core's `CooperationStatus`.
+    #[serde(default, deserialize_with = "present")]
+    id: Option<SceneId>,
+    #[serde(default, deserialize_with = "present")]
+    module_decision: Option<Decision>,
+    #[serde(default, deserialize_with = "present")]
+    operator_decision: Option<OperatorDecision>,
+    // The other fields of a replay's JSON scene: read (so checked), not compared.
+    #[serde(default, deserialize_with = "present")]
+    module: Option<Module>,
+    #[serde(default, deserialize_with = "present")]
+    phase: Option<Phase>,
+    #[serde(default, deserialize_with = "present")]
+    policy: Option<Option<Policy>>,
+    #[serde(default, deserialize_with = "present")]
+    merged_decision: Option<Option<Decision>>,
+    #[serde(default, deserialize_with = "present")]
+    force_activated: Option<bool>,
+    #[serde(default, deserialize_with = "present")]
+    force_deactivated: Option<bool>,
+    // The AD API `CooperationStatus`.
+    #[serde(default, deserialize_with = "present")]
+    uuid: Option<wire::Uuid>,
+    #[serde(default, deserialize_with = "present")]
+    autonomous: Option<wire::CooperationDecision>,
+    #[serde(default, deserialize_with = "present")]
+    cooperator: Option<wire::CooperationDecision>,
+    // Both.
+    #[serde(default, deserialize_with = "present")]
+    cancellable: Option<bool>,
 }
 
-/// The path of a failing field; empty for the whole value (the library writes `.`) or when
-/// the error comes before any field is known (`?`, a key that is not a string).
-fn field_path(path: &serde_path_to_error::Path) -> String {
-    let path = path.to_string();
-    if path == "." || path == "?" {
-        String::new()
-    } else {
-        path
+/// An optional field that, when given, holds a value: `null` is refused as the field's type
+/// refuses it, not read as a field left out.
+fn present<'de, D: Deserializer<'de>, T: Deserialize<'de>>(
+    deserializer: D,
+) -> Result<Option<T>, D::Error> {
+    T::deserialize(deserializer).map(Some)
+}
+
+/// [`present`] for `input`: serde_json explains `null` for an enumeration as "expected
+/// value"; this says it is `null`.
+fn present_input<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<Input>, D::Error> {
+    deserializer.deserialize_option(NotNull::new("an input, an object with one key"))
+}
+
+/// [`present`] for `factors`, as [`present_input`].
+fn present_factors<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Option<FactorKind>, D::Error> {
+    deserializer.deserialize_option(NotNull::new("`Velocity` or `Steering`"))
+}
+
+/// A value that is not `null`, described as `expected` when it is.
+struct NotNull<T> {
+    expected: &'static str,
+    value: PhantomData<T>,
+}
+
+impl<T> NotNull<T> {
+    const fn new(expected: &'static str) -> Self {
+        Self {
+            expected,
+            value: PhantomData,
+        }
     }
 }
 
-/// serde_json's message; within one line, "at column N" rather than "at line 1 column N".
-fn json_message(error: &serde_json::Error, one_line: bool) -> String {
-    let message = error.to_string();
-    let position = format!(" at line {} column {}", error.line(), error.column());
-    match message.strip_suffix(&position) {
-        Some(bare) if one_line => format!("{bare} (column {})", error.column()),
-        _ => message,
+impl<'de, T: Deserialize<'de>> Visitor<'de> for NotNull<T> {
+    type Value = Option<T>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.expected)
+    }
+
+    fn visit_none<E: de::Error>(self) -> Result<Option<T>, E> {
+        Err(E::invalid_type(Unexpected::Unit, &self))
+    }
+
+    fn visit_some<D: Deserializer<'de>>(self, deserializer: D) -> Result<Option<T>, D::Error> {
+        T::deserialize(deserializer).map(Some)
+    }
+}
+
+impl RawStatus {
+    /// The status, from the AD API form when `uuid` is given, else from the core's form.
+    fn check(self) -> Result<CooperationStatus, ErrorKind> {
+        let misplaced = |field: &str, form: &str| {
+            json_error(
+                field.to_owned(),
+                &format!("a field of {form}, and this status is not in that form"),
+            )
+        };
+        let Some(uuid) = self.uuid else {
+            for (field, given) in [
+                ("autonomous", self.autonomous.is_some()),
+                ("cooperator", self.cooperator.is_some()),
+            ] {
+                if given {
+                    return Err(misplaced(field, "the AD API form (with `uuid`)"));
+                }
+            }
+            let missing =
+                |field: &str| json_error(String::new(), &format!("missing field `{field}`"));
+            return Ok(CooperationStatus {
+                id: self.id.ok_or_else(|| missing("id"))?,
+                module_decision: self
+                    .module_decision
+                    .ok_or_else(|| missing("module_decision"))?,
+                operator_decision: self
+                    .operator_decision
+                    .ok_or_else(|| missing("operator_decision"))?,
+                cancellable: self.cancellable.ok_or_else(|| missing("cancellable"))?,
+            });
+        };
+        for (field, given) in [
+            ("id", self.id.is_some()),
+            ("module_decision", self.module_decision.is_some()),
+            ("operator_decision", self.operator_decision.is_some()),
+            ("module", self.module.is_some()),
+            ("phase", self.phase.is_some()),
+            ("policy", self.policy.is_some()),
+            ("merged_decision", self.merged_decision.is_some()),
+            ("force_activated", self.force_activated.is_some()),
+            ("force_deactivated", self.force_deactivated.is_some()),
+        ] {
+            if given {
+                return Err(misplaced(field, "the core's form (without `uuid`)"));
+            }
+        }
+        // The AD API message's fields default as `cooperation::wire` reads them.
+        let wire = wire::CooperationStatus {
+            uuid,
+            autonomous: self.autonomous.unwrap_or_default(),
+            cooperator: self.cooperator.unwrap_or_default(),
+            cancellable: self.cancellable.unwrap_or_default(),
+        };
+        CooperationStatus::try_from(&wire).map_err(|malformed| {
+            let path = malformed.path().to_string();
+            let shown = malformed.to_string();
+            let message = shown.strip_prefix(&format!("{path}: ")).unwrap_or(&shown);
+            json_error(path, message)
+        })
     }
 }
 
@@ -176,8 +296,8 @@ pub fn parse_record(line: usize, text: &str) -> Result<Record, TraceError> {
         (_, None, Some(_)) => return Err(at(ErrorKind::FactorsWithoutObserved)),
         (Some(Input::Tick { .. }), None, None) => return Err(at(ErrorKind::TickInput)),
         (Some(input), None, None) => Event::Input(input),
-        (None, Some(values), factors) => Event::Observed(Observation {
-            statuses: observed_statuses(&values).map_err(at)?,
+        (None, Some(raw), factors) => Event::Observed(Observation {
+            statuses: observed_statuses(raw).map_err(at)?,
             factors,
         }),
         (None, None, None) if raw.at_ms.is_some() => Event::Time,
@@ -189,12 +309,13 @@ pub fn parse_record(line: usize, text: &str) -> Result<Record, TraceError> {
     })
 }
 
-fn observed_statuses(values: &[serde_json::Value]) -> Result<Vec<CooperationStatus>, ErrorKind> {
+fn observed_statuses(raw: Vec<RawStatus>) -> Result<Vec<CooperationStatus>, ErrorKind> {
     let mut seen = BTreeSet::new();
-    let mut statuses = Vec::with_capacity(values.len());
-    for (index, value) in values.iter().enumerate() {
-        let status =
-            parse_status(value).map_err(|kind| within(&format!("observed[{index}]"), kind))?;
+    let mut statuses = Vec::with_capacity(raw.len());
+    for (index, raw) in raw.into_iter().enumerate() {
+        let status = raw
+            .check()
+            .map_err(|kind| within(&format!("observed[{index}]"), kind))?;
         if !seen.insert(status.id) {
             return Err(ErrorKind::DuplicateObserved {
                 index,
@@ -206,34 +327,29 @@ fn observed_statuses(values: &[serde_json::Value]) -> Result<Vec<CooperationStat
     Ok(statuses)
 }
 
-/// Parses one observed status. Every form of status a trace accepts is decoded here and
-/// nowhere else. Two forms:
+/// Parses one observed status from its JSON text. Every form of status a trace accepts is
+/// decoded as here. Two forms:
 /// - the core's `CooperationStatus` in its serde form: `{"id": "<uuid>", "module_decision":
-///   "Activate", "operator_decision": "Undecided", "cancellable": true}` (other fields, such as
-///   those of a replay's JSON output, are ignored);
+///   "Activate", "operator_decision": "Undecided", "cancellable": true}`; the other fields of
+///   a replay's JSON scene (`module`, `phase`, `policy`, `merged_decision`,
+///   `force_activated`, `force_deactivated`) are accepted and checked, not compared;
 /// - the AD API message as rosbridge writes it (a status taken from a recorded factor's
 ///   `cooperation`): `{"uuid": {"uuid": [16 numbers] or "<base64>"}, "autonomous":
 ///   {"decision": 2}, "cooperator": {"decision": 4}, "cancellable": true}`, told apart by its
-///   `uuid` field and parsed by `cooperation::wire`.
+///   `uuid` field and converted by `cooperation::wire`.
+///
+/// Any other field, a field given twice, and an array in place of an object are refused.
 ///
 /// # Errors
 /// [`ErrorKind::Json`] naming the field, relative to the status.
-pub fn parse_status(value: &serde_json::Value) -> Result<CooperationStatus, ErrorKind> {
-    if value.get("uuid").is_some() {
-        let wire: cooperation::wire::CooperationStatus = serde_path_to_error::deserialize(value)
-            .map_err(|error| ErrorKind::Json {
-                field: field_path(error.path()),
-                message: error.into_inner().to_string(),
-            })?;
-        return CooperationStatus::try_from(&wire).map_err(|malformed| ErrorKind::Json {
-            field: String::new(),
-            message: malformed.to_string(),
-        });
+pub fn parse_status(text: &str) -> Result<CooperationStatus, ErrorKind> {
+    if !text.trim_start_matches(JSON_SPACE).starts_with('{') {
+        return Err(json_error(
+            String::new(),
+            "a status is a JSON object (`{...}`)",
+        ));
     }
-    serde_path_to_error::deserialize(value).map_err(|error| ErrorKind::Json {
-        field: field_path(error.path()),
-        message: error.into_inner().to_string(),
-    })
+    from_json::<RawStatus>(text, true)?.check()
 }
 
 /// Parses a configuration: the value of a `config` record, or a configuration file's whole
@@ -243,7 +359,9 @@ pub fn parse_status(value: &serde_json::Value) -> Result<CooperationStatus, Erro
 /// A [`TraceError`] without a line (a file's JSON errors carry their line and column in the
 /// message).
 pub fn parse_config(text: &str) -> Result<Config, TraceError> {
-    if !text.trim_start().starts_with('{') {
+    // A file may start with a byte-order mark, as a trace may.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if !text.trim_start_matches(JSON_SPACE).starts_with('{') {
         return Err(TraceError::nowhere(ErrorKind::NotAnObject));
     }
     let raw: RawConfig =

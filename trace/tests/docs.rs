@@ -108,17 +108,22 @@ fn shown_errors_are_the_errors() {
         .find(|line| line.starts_with("{\"config\""))
         .unwrap();
     let observed = r#"{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true}"#;
+    let twice = observed.replace("true}", "true, \"cancellable\": false}");
+    let mut not_utf8 = seed.clone().into_bytes();
+    not_utf8.extend_from_slice(b"{\"at_ms\": 7\xff}\n");
     let traces = [
-        seed.replacen("\"Deactivate\"", "\"Maybe\"", 1),
-        seed.replacen(config, "# no config", 1),
-        format!("{seed}{{\"at_ms\": 599}}\n"),
-        format!("{seed}{{\"observed\": [{observed}, {observed}]}}\n"),
-        format!("{seed}{{\"at_ms\": 600{}}}\n", " ".repeat(1 << 20)),
+        seed.replacen("\"Deactivate\"", "\"Maybe\"", 1).into_bytes(),
+        seed.replacen(config, "# no config", 1).into_bytes(),
+        format!("{seed}{{\"at_ms\": 599}}\n").into_bytes(),
+        format!("{seed}{{\"observed\": [{observed}, {observed}]}}\n").into_bytes(),
+        format!("{seed}{{\"at_ms\": 600{}}}\n", " ".repeat(1 << 20)).into_bytes(),
+        format!("{seed}{{\"observed\": [{twice}]}}\n").into_bytes(),
+        not_utf8,
     ];
     let doc = doc();
     for trace in traces {
         let error = replay(
-            trace.as_bytes(),
+            trace.as_slice(),
             std::io::sink(),
             &Options::default(),
             false,
