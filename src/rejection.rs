@@ -139,12 +139,12 @@ pub enum Rejection {
         named: Module,
     },
     /// `[COOP-OWN-UNKNOWN.1]`: no scene has this identifier.
-    UnknownScene {
+    OwnerUnknown {
         /// The identifier.
         id: SceneId,
     },
     /// `[COOP-OWN-RETIRED.1]`: the scene has retired.
-    RetiredScene {
+    OwnerRetired {
         /// The identifier.
         id: SceneId,
         /// What it retired as.
@@ -212,8 +212,8 @@ impl Rejection {
             Self::UnsupportedModule { .. } => Rule::RegisterModule,
             Self::SceneLimit { .. } => Rule::RegisterFull,
             Self::WrongModule { .. } => Rule::OwnerModule,
-            Self::UnknownScene { .. } => Rule::OwnerUnknown,
-            Self::RetiredScene { .. } => Rule::OwnerRetired,
+            Self::OwnerUnknown { .. } => Rule::OwnerUnknown,
+            Self::OwnerRetired { .. } => Rule::OwnerRetired,
             Self::KindMismatch { .. } => Rule::OwnerKind,
             Self::PhaseTransition { .. } => Rule::OwnerTransition,
             Self::Commands { failure, .. } => failure.rule(),
@@ -243,8 +243,8 @@ impl fmt::Display for Rejection {
             Self::WrongModule { id, owner, named } => {
                 write!(f, "scene {id} belongs to module {owner}, not {named}")
             }
-            Self::UnknownScene { id } => write!(f, "no scene has identifier {id}"),
-            Self::RetiredScene { id, retirement } => {
+            Self::OwnerUnknown { id } => write!(f, "no scene has identifier {id}"),
+            Self::OwnerRetired { id, retirement } => {
                 write!(
                     f,
                     "scene {id} of {} has retired ({})",

@@ -414,12 +414,12 @@ impl State {
             Some(found) => Ok(found),
             None => Err(match self.retired.get(&id) {
                 // [COOP-OWN-RETIRED.1]
-                Some(retirement) => Rejection::RetiredScene {
+                Some(retirement) => Rejection::OwnerRetired {
                     id,
                     retirement: *retirement,
                 },
                 // [COOP-OWN-UNKNOWN.1]
-                None => Rejection::UnknownScene { id },
+                None => Rejection::OwnerUnknown { id },
             }),
         }
     }

@@ -13,7 +13,7 @@ use spec_tables::*;
 fn coop_retire_1() {
     let mut state = state();
     churn(&mut state, 1..=4);
-    let remembered: Vec<SceneId> = state.retired().map(|(id, _)| id).collect();
+    let remembered: Vec<SceneId> = state.retired_oldest_first().map(|(id, _)| id).collect();
     assert_eq!(remembered, [id(2), id(3), id(4)]);
     assert_eq!(state.retirement(id(1)), None);
     rejects(
@@ -530,6 +530,6 @@ fn relabel_renames_and_refuses_collisions() {
         .expect("applies");
     assert_eq!(b.relabel(swap), Some(a));
     assert_eq!(state.relabel(|_| id(1)), None);
-    let ids: Vec<SceneId> = state.retirements().map(|(id, _)| id).collect();
+    let ids: Vec<SceneId> = state.retired_by_id().map(|(id, _)| id).collect();
     assert_eq!(ids, [id(2)]);
 }

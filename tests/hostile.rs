@@ -505,7 +505,13 @@ fn the_documented_base64_example() {
         )
     };
     let bytes: Vec<u8> = (0..16).collect();
-    assert_eq!(read("AAECAwQFBgcICQoLDA0ODw==").expect("canonical").uuid, bytes);
+    assert_eq!(
+        read("AAECAwQFBgcICQoLDA0ODw==").expect("canonical").uuid,
+        bytes
+    );
     let error = read("AAECAwQFBgcICQoLDA0ODx==").expect_err("stray bits");
-    assert!(error.to_string().contains("past the end of the data"), "{error}");
+    assert!(
+        error.to_string().contains("past the end of the data"),
+        "{error}"
+    );
 }

@@ -102,7 +102,7 @@ fn a_permuted_retirement_order_is_another_history() {
         .expect("list")
         .reverse();
     let state: State = serde_json::from_value(value).expect("a reachable state loads");
-    let order: Vec<SceneId> = state.retired().map(|(id, _)| id).collect();
+    let order: Vec<SceneId> = state.retired_oldest_first().map(|(id, _)| id).collect();
     assert_eq!(order, [id(4), id(3)]);
 }
 

@@ -285,11 +285,11 @@ proptest! {
                 prop_assert_eq!(*owner.entry(id).or_insert(scene.module()), scene.module());
                 prop_assert!(!retired.contains_key(&id), "{} came back", id);
             }
-            for (id, retirement) in state.retired() {
+            for (id, retirement) in state.retired_oldest_first() {
                 prop_assert_eq!(*retired.entry(id).or_insert(retirement), retirement, "retirements are sticky");
                 prop_assert_eq!(owner.get(&id), Some(&retirement.module));
             }
-            prop_assert_eq!(state.retired().count(), retired.len(), "nothing is forgotten below capacity");
+            prop_assert_eq!(state.retired_oldest_first().count(), retired.len(), "nothing is forgotten below capacity");
         }
     }
 

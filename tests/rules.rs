@@ -160,7 +160,7 @@ fn coop_own_unknown_1() {
     ] {
         assert_eq!(
             rejects(&mut state, input, Rule::OwnerUnknown),
-            Rejection::UnknownScene { id: id(9) }
+            Rejection::OwnerUnknown { id: id(9) }
         );
     }
     assert!(state.scene(id(9)).is_none());
@@ -195,7 +195,7 @@ fn coop_own_retired_1() {
         let rejection = rejects(&mut state, input, Rule::OwnerRetired);
         assert_eq!(
             rejection,
-            Rejection::RetiredScene {
+            Rejection::OwnerRetired {
                 id: id(1),
                 retirement
             }

@@ -82,7 +82,10 @@ fn check_config(config: &Config) {
         .map(|setting| (setting.module, setting.policy))
         .collect();
     assert_eq!(policies, config.policies);
-    assert_eq!((state.scene_count(), state.retired().count()), (0, 0));
+    assert_eq!(
+        (state.scene_count(), state.retired_oldest_first().count()),
+        (0, 0)
+    );
     assert_eq!(state.check_invariants(), Ok(()));
     let Ok(json) = serde_json::to_vec(&state) else {
         panic!("a new state does not write")

@@ -73,7 +73,7 @@ fn id(state: &State, byte: u8) -> SceneId {
     let known: Vec<SceneId> = state
         .scenes()
         .map(|(id, _)| id)
-        .chain(state.retired().map(|(id, _)| id))
+        .chain(state.retired_oldest_first().map(|(id, _)| id))
         .collect();
     match pick(&known, byte) {
         Some(id) if byte < 0xc0 => id,

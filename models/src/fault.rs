@@ -121,7 +121,7 @@ impl Fault {
             (
                 Self::TerminalLeaves,
                 Input::Update { id, phase, decision, geometry, .. },
-                Err(Rejection::RetiredScene { retirement, .. }),
+                Err(Rejection::OwnerRetired { retirement, .. }),
             ) if !phase.is_terminal() => unretire(core, *id).and_then(|mut next| {
                 let scene = json!({
                     "module": retirement.module, "phase": phase, "module_decision": decision,
@@ -187,8 +187,8 @@ impl Fault {
                 })
             }
             (Self::ForgetsEarly, _, Ok(t)) if !t.retired.is_empty() => {
-                let remembered = core.retired().count();
-                let oldest = core.retired().map(|(id, _)| id).next();
+                let remembered = core.retired_oldest_first().count();
+                let oldest = core.retired_oldest_first().map(|(id, _)| id).next();
                 let room = remembered < core.limits().retired_capacity;
                 oldest.filter(|_| room && remembered > 1).and_then(|id| unretire(core, id))
             }
@@ -202,7 +202,7 @@ impl Fault {
         }
         // A fault that changed the outcome reports the rule its result now looks like.
         match (self, &result) {
-            (Self::TerminalLeaves, Err(Rejection::RetiredScene { .. })) if *core != before => {
+            (Self::TerminalLeaves, Err(Rejection::OwnerRetired { .. })) if *core != before => {
                 Ok(Transition {
                     rule: Rule::OwnerUpdate,
                     retired: Vec::new(),

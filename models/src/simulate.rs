@@ -289,11 +289,11 @@ fn evaluate(
 
 /// Whether the step from `from` to `to` retired an identifier and forgot an older one.
 fn forgot(from: &Step, to: &Step) -> bool {
-    let retired = |step: &Step| step.core.retired().count();
+    let retired = |step: &Step| step.core.retired_oldest_first().count();
     let newly = to.core.scene_count() < from.core.scene_count() || retired(to) > retired(from);
     newly
         && from
             .core
-            .retired()
+            .retired_oldest_first()
             .any(|(id, _)| to.core.retirement(id).is_none())
 }

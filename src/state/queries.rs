@@ -45,15 +45,16 @@ impl State {
         self.retired.get(&id).copied()
     }
 
-    /// The remembered retired identifiers, oldest first.
-    pub fn retired(&self) -> impl Iterator<Item = (SceneId, Retirement)> + '_ {
+    /// The remembered retired identifiers, oldest first: the order in which they are forgotten
+    /// (`[COOP-RETIRE.1]`).
+    pub fn retired_oldest_first(&self) -> impl Iterator<Item = (SceneId, Retirement)> + '_ {
         self.retired_order
             .iter()
             .filter_map(|id| self.retired.get(id).map(|retirement| (*id, *retirement)))
     }
 
     /// The remembered retired identifiers, in identifier order.
-    pub fn retirements(&self) -> impl Iterator<Item = (SceneId, Retirement)> + '_ {
+    pub fn retired_by_id(&self) -> impl Iterator<Item = (SceneId, Retirement)> + '_ {
         self.retired
             .iter()
             .map(|(id, retirement)| (*id, *retirement))

@@ -237,7 +237,7 @@ impl Sink for Bounds {
     fn step(&mut self, step: &Step, replayer: &Replayer) -> Result<ControlFlow<()>, TraceError> {
         let state = replayer.state().unwrap();
         assert!(state.scene_count() <= self.limits.max_scenes);
-        assert!(state.retired().count() <= self.limits.retired_capacity);
+        assert!(state.retired_oldest_first().count() <= self.limits.retired_capacity);
         let bound =
             2 * (self.limits.max_scenes + self.limits.retired_capacity + self.limits.max_batch);
         assert!(replayer.tracked_scenes() <= bound + self.limits.max_batch + 1);

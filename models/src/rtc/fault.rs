@@ -106,7 +106,7 @@ impl RtcFault {
             (Self::RemoveCrossesInterface, Call::Remove { interface, id }) => {
                 let module = model.binding(*interface).map(|b| b.module);
                 let result = module
-                    .ok_or(Rejection::UnknownScene { id: *id })
+                    .ok_or(Rejection::OwnerUnknown { id: *id })
                     .and_then(|module| core.apply(&Input::Remove { id: *id, module }));
                 Said::transitions(Kind::Remove, result.map(|t| vec![t]).map_err(Into::into))
             }

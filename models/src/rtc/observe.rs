@@ -269,7 +269,7 @@ pub(super) fn observe(
         Call::AutoMode { .. } | Call::AutoModeWithModule { .. } => {
             broken.set(Broken::UNANSWERED, said.success != Some(accepted));
             let scenes_kept = old.scenes().eq(new.scenes())
-                && old.retirements().eq(new.retirements())
+                && old.retired_by_id().eq(new.retired_by_id())
                 && from.rtc == to.rtc;
             broken.set(Broken::AUTO_MODE_CLOBBERED, !scenes_kept);
             if accepted {

@@ -344,7 +344,7 @@ impl RtcStep {
         // Where the core forgets, how many routes the adapter keeps (stale ones included) is
         // part of the state, so that its bound is checked on every way of reaching a state.
         let (order, routes): (Vec<SceneId>, usize) = if self.order_matters {
-            let order = self.core.retired().map(|(id, _)| id).collect();
+            let order = self.core.retired_oldest_first().map(|(id, _)| id).collect();
             (order, self.rtc.route_count())
         } else {
             (Vec::new(), 0)

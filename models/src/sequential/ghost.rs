@@ -233,7 +233,7 @@ pub(super) fn observe(
                 .eq(core.scenes().map(|(id, _)| id));
             let spilled = !same_ids
                 || policies_changed
-                || old.retired().ne(core.retired())
+                || old.retired_oldest_first().ne(core.retired_oldest_first())
                 || kept.iter().any(|(id, o, n)| {
                     let operator_moved = o.operator_decision() != n.operator_decision();
                     let rest_moved = o.phase() != n.phase()
@@ -258,7 +258,9 @@ pub(super) fn observe(
                 .any(|(o, n)| o != n && !named(o.module));
             broken.set(
                 Broken::POLICY_SPILLED,
-                scenes_changed || foreign || old.retired().ne(core.retired()),
+                scenes_changed
+                    || foreign
+                    || old.retired_oldest_first().ne(core.retired_oldest_first()),
             );
             let missed = policies
                 .iter()
@@ -284,7 +286,7 @@ pub(super) fn observe(
             .set(Broken::ID_MOVED, owner != Some(scene.module()));
         ghost.broken.set(Broken::REVIVED, ghost.was_retired(id));
     }
-    for (id, retirement) in core.retirements() {
+    for (id, retirement) in core.retired_by_id() {
         if let Some(i) = index(id) {
             ghost.retired_ever |= 1_u64 << i;
         }
@@ -298,14 +300,14 @@ pub(super) fn observe(
     // (the retired set is full afterwards) and oldest first: of the earlier retirements only a
     // prefix of the retirement order, and one retired by this very step only after all of them.
     let vanished = |id: &SceneId| core.retirement(*id).is_none() && core.scene(*id).is_none();
-    let old_order: Vec<SceneId> = old.retired().map(|(id, _)| id).collect();
+    let old_order: Vec<SceneId> = old.retired_oldest_first().map(|(id, _)| id).collect();
     let forgotten_old = old_order.iter().take_while(|id| vanished(id)).count();
     let forgotten_new = old.scenes().filter(|(id, _)| vanished(id)).count();
     let any_forgotten = old_order.iter().any(vanished) || forgotten_new > 0;
     if any_forgotten {
         let prefix = old_order.iter().filter(|id| vanished(id)).count() == forgotten_old;
         let after_all_old = forgotten_new == 0 || forgotten_old == old_order.len();
-        let full = core.retired().count() == core.limits().retired_capacity;
+        let full = core.retired_oldest_first().count() == core.limits().retired_capacity;
         ghost
             .broken
             .set(Broken::FORGOT_EARLY, !(prefix && after_all_old && full));

@@ -143,8 +143,8 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
     let core: &State = &step.core;
     let ascending = |ids: &[SceneId]| ids.windows(2).all(|w| w.first() < w.last());
     let live: Vec<SceneId> = core.scenes().map(|(id, _)| id).collect();
-    let by_id: Vec<SceneId> = core.retirements().map(|(id, _)| id).collect();
-    let mut by_age: Vec<SceneId> = core.retired().map(|(id, _)| id).collect();
+    let by_id: Vec<SceneId> = core.retired_by_id().map(|(id, _)| id).collect();
+    let mut by_age: Vec<SceneId> = core.retired_oldest_first().map(|(id, _)| id).collect();
     by_age.sort_unstable();
     // The iterator's size hint is valid, as Rust's `Iterator` contract asks of every iterator.
     let (lower, upper) = core.scenes().size_hint();
@@ -157,7 +157,7 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
         && ascending(&by_id)
         && by_id == by_age
         && core
-            .retirements()
+            .retired_by_id()
             .all(|(id, retirement)| core.retirement(id) == Some(retirement))
 }
 
@@ -167,7 +167,7 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
 fn relabel_is_a_renaming(_: &SequentialModel, step: &Step) -> bool {
     let core: &State = &step.core;
     let mut ids: Vec<SceneId> = core.scenes().map(|(id, _)| id).collect();
-    ids.extend(core.retirements().map(|(id, _)| id));
+    ids.extend(core.retired_by_id().map(|(id, _)| id));
     let identity = core.relabel(|id| id).as_ref() == Some(core);
     let (Some(&a), Some(&b)) = (ids.first(), ids.get(1)) else {
         return identity;

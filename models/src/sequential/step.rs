@@ -114,9 +114,10 @@ fn core_hash(core: &State, order_matters: bool) -> u64 {
     core.scene_count().hash(&mut state);
     core.scenes().for_each(|scene| scene.hash(&mut state));
     if order_matters {
-        core.retired().for_each(|retired| retired.hash(&mut state));
+        core.retired_oldest_first()
+            .for_each(|retired| retired.hash(&mut state));
     } else {
-        core.retirements()
+        core.retired_by_id()
             .for_each(|retired| retired.hash(&mut state));
     }
     state.finish()
@@ -183,7 +184,7 @@ impl Step {
         let core = &self.core;
         let position = |id: SceneId| {
             if self.order_matters {
-                core.retired().position(|(o, _)| o == id)
+                core.retired_oldest_first().position(|(o, _)| o == id)
             } else {
                 None
             }
@@ -193,7 +194,7 @@ impl Step {
         let known = core
             .scenes()
             .map(|(id, _)| id)
-            .chain(core.retired().map(|(id, _)| id))
+            .chain(core.retired_oldest_first().map(|(id, _)| id))
             .filter_map(index)
             .map(|i| i + 1)
             .fold(self.ghost.known(), usize::max);

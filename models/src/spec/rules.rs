@@ -56,7 +56,7 @@ impl Snapshot {
             limits: state.limits(),
             policies: state.policies().map(|p| (p.module, p.policy)).collect(),
             scenes: scenes.collect(),
-            retired: state.retired().collect(),
+            retired: state.retired_oldest_first().collect(),
         }
     }
 
@@ -73,7 +73,9 @@ impl Snapshot {
                 .scenes()
                 .map(|(id, s)| (id, record(s)))
                 .eq(self.scenes.iter().copied())
-            && state.retired().eq(self.retired.iter().copied())
+            && state
+                .retired_oldest_first()
+                .eq(self.retired.iter().copied())
     }
 
     fn scene(&self, id: SceneId) -> Option<&SceneRecord> {
@@ -261,10 +263,10 @@ fn owned(before: &Snapshot, id: SceneId, module: Module) -> Result<(), Refusal> 
     match (before.scene(id), before.retirement(id)) {
         (Some(scene), _) if scene.module != module => Err(wrong_module(id, scene.module, module)),
         (Some(_), _) => Ok(()),
-        (None, None) => Err((Rule::OwnerUnknown, Rejection::UnknownScene { id })),
+        (None, None) => Err((Rule::OwnerUnknown, Rejection::OwnerUnknown { id })),
         (None, Some(retirement)) => Err((
             Rule::OwnerRetired,
-            Rejection::RetiredScene { id, retirement },
+            Rejection::OwnerRetired { id, retirement },
         )),
     }
 }
@@ -280,7 +282,7 @@ fn update(
     geometry: &Geometry,
 ) -> Result<Verdict, Refusal> {
     let Some(scene) = before.scene(id) else {
-        return Err((Rule::OwnerUnknown, Rejection::UnknownScene { id }));
+        return Err((Rule::OwnerUnknown, Rejection::OwnerUnknown { id }));
     };
     let kind = |g: &Geometry| match g {
         Geometry::Velocity { .. } => FactorKind::Velocity,
