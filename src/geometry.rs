@@ -197,6 +197,15 @@ pub enum FactorKind {
     Steering,
 }
 
+impl core::fmt::Display for FactorKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::Velocity => "velocity",
+            Self::Steering => "steering",
+        })
+    }
+}
+
 /// A scene's geometry, by kind. The kind is fixed at registration (spec `[COOP-OWN-KIND.1]`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -88,3 +88,145 @@ pub struct PolicySetting {
     /// Its new policy.
     pub policy: Policy,
 }
+
+/// An input in a few words, its identifiers named by `name`: what
+/// [`Input::describe_with`] returns.
+pub struct Described<'a, F> {
+    input: &'a Input,
+    name: F,
+}
+
+/// At most this many entries of a batch are listed; the rest are counted.
+const LISTED: usize = 4;
+
+impl<F: Fn(SceneId) -> String> core::fmt::Display for Described<'_, F> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let name = &self.name;
+        let requested = |requested: bool| if requested { " requested" } else { "" };
+        match self.input {
+            Input::Register {
+                id,
+                module,
+                decision,
+                requested: asks,
+                geometry,
+            } => write!(
+                f,
+                "register {} {module} {decision}{} {}",
+                name(*id),
+                requested(*asks),
+                geometry.kind()
+            ),
+            Input::Update {
+                id,
+                module,
+                phase,
+                decision,
+                requested: asks,
+                ..
+            } => write!(
+                f,
+                "update {} {module} {phase} {decision}{}",
+                name(*id),
+                requested(*asks)
+            ),
+            Input::Remove { id, module } => write!(f, "remove {} {module}", name(*id)),
+            Input::SetCommands { commands } => {
+                let entries = commands
+                    .iter()
+                    .map(|c| format!("{} {}", name(c.id), c.decision));
+                write_batch(f, "set_commands", entries, commands.len())
+            }
+            Input::SetPolicies { policies } => {
+                let entries = policies
+                    .iter()
+                    .map(|p| format!("{} {}", p.module, p.policy));
+                write_batch(f, "set_policies", entries, policies.len())
+            }
+            Input::Tick { elapsed_ms } => write!(f, "time +{elapsed_ms} ms"),
+        }
+    }
+}
+
+/// `call [first, second, …, and N more]`, listing at most [`LISTED`] entries.
+fn write_batch(
+    f: &mut core::fmt::Formatter<'_>,
+    call: &str,
+    entries: impl Iterator<Item = String>,
+    len: usize,
+) -> core::fmt::Result {
+    write!(f, "{call} [")?;
+    for (index, entry) in entries.take(LISTED).enumerate() {
+        let separator = if index == 0 { "" } else { ", " };
+        write!(f, "{separator}{entry}")?;
+    }
+    if len > LISTED {
+        write!(f, ", and {} more", len - LISTED)?;
+    }
+    f.write_str("]")
+}
+
+impl Input {
+    /// This input in a few words, naming each identifier with `name` (a model checker names
+    /// them by small numbers): `register {id} {module} {decision} velocity`, `time +100 ms`.
+    /// A batch lists its first four entries and counts the rest. [`Display`](core::fmt::Display)
+    /// is this with identifiers in full.
+    pub fn describe_with<F: Fn(SceneId) -> String>(&self, name: F) -> Described<'_, F> {
+        Described { input: self, name }
+    }
+}
+
+impl core::fmt::Display for Input {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        self.describe_with(|id| id.to_string()).fmt(f)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Behavior, Direction};
+
+    #[test]
+    fn an_input_in_a_few_words() {
+        let module = Module::new(Behavior::LaneChange);
+        let id = SceneId::from_u128(7);
+        let register = Input::Register {
+            id,
+            module,
+            decision: Decision::Activate,
+            requested: true,
+            geometry: Geometry::steering(Direction::Left, 1.0, 2.0),
+        };
+        assert_eq!(
+            register.to_string(),
+            "register 00000000-0000-0000-0000-000000000007 lane-change activate requested steering"
+        );
+        let short = |id: SceneId| format!("#{}", id.to_u128());
+        let commands = (1..=6)
+            .map(|n| Command {
+                id: SceneId::from_u128(n),
+                decision: OperatorDecision::Deactivate,
+            })
+            .collect();
+        assert_eq!(
+            Input::SetCommands { commands }
+                .describe_with(short)
+                .to_string(),
+            "set_commands [#1 deactivate, #2 deactivate, #3 deactivate, #4 deactivate, and 2 more]"
+        );
+        let update = Input::Update {
+            id,
+            module,
+            phase: Phase::Running,
+            decision: Decision::Deactivate,
+            requested: false,
+            geometry: Geometry::velocity(3.0),
+        };
+        assert_eq!(
+            update.describe_with(short).to_string(),
+            "update #7 lane-change running deactivate"
+        );
+        assert_eq!(Input::Tick { elapsed_ms: 100 }.to_string(), "time +100 ms");
+    }
+}

@@ -73,7 +73,7 @@ pub use geometry::{
     Direction, Distance, FactorKind, Geometry, Pose, SteeringStatus, VelocityStatus,
 };
 pub use id::{InvalidSceneId, SceneId};
-pub use input::{Command, Input, PolicySetting};
+pub use input::{Command, Described, Input, PolicySetting};
 
 pub use module::{Behavior, Module, Sequence, UnknownName};
 pub use output::{

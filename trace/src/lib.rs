@@ -39,9 +39,7 @@ pub use read::{Lines, ReadLimits};
 pub use record::{
     parse_config, parse_record, parse_status, Event, Observation, Record, MAX_LIMITS,
 };
-pub use render::{
-    describe, scenes_table, step_json, step_text, verdict_json, verdict_text, Printer,
-};
+pub use render::{scenes_table, step_json, step_text, verdict_json, verdict_text, Printer};
 pub use replay::{Cause, Replayer, Sink, Step};
 pub use validate::{compare, Departure, Difference, Field, Validator, Verdict};
 

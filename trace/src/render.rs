@@ -60,58 +60,6 @@ impl<W: Write> Sink for Printer<W> {
     }
 }
 
-/// A step's input in a few words.
-#[must_use]
-pub fn describe(input: &Input) -> String {
-    const SHOWN: usize = 4;
-    match input {
-        Input::Register {
-            id,
-            module,
-            decision,
-            geometry,
-            ..
-        } => format!(
-            "register {id} {module} {decision} {}",
-            match geometry.kind() {
-                cooperation::FactorKind::Velocity => "velocity",
-                cooperation::FactorKind::Steering => "steering",
-            }
-        ),
-        Input::Update {
-            id,
-            module,
-            phase,
-            decision,
-            ..
-        } => format!("update {id} {module} {phase} {decision}"),
-        Input::Remove { id, module } => format!("remove {id} {module}"),
-        Input::SetCommands { commands } => {
-            let mut text = String::from("set_commands [");
-            for (index, command) in commands.iter().take(SHOWN).enumerate() {
-                let separator = if index == 0 { "" } else { ", " };
-                let _ = write!(text, "{separator}{} {}", command.id, command.decision);
-            }
-            if commands.len() > SHOWN {
-                let _ = write!(text, ", and {} more", commands.len() - SHOWN);
-            }
-            text + "]"
-        }
-        Input::SetPolicies { policies } => {
-            let mut text = String::from("set_policies [");
-            for (index, setting) in policies.iter().take(SHOWN).enumerate() {
-                let separator = if index == 0 { "" } else { ", " };
-                let _ = write!(text, "{separator}{} {}", setting.module, setting.policy);
-            }
-            if policies.len() > SHOWN {
-                let _ = write!(text, ", and {} more", policies.len() - SHOWN);
-            }
-            text + "]"
-        }
-        Input::Tick { elapsed_ms } => format!("time +{elapsed_ms} ms"),
-    }
-}
-
 fn retired_text(transition: &Transition, state: &State) -> String {
     let mut text = String::new();
     for (index, id) in transition.retired.iter().enumerate() {
@@ -131,7 +79,7 @@ pub fn step_text(step: &Step, state: &State) -> String {
     if let Some(at_ms) = step.at_ms {
         let _ = write!(text, ", at {at_ms} ms");
     }
-    let _ = write!(text, ": {} -> ", describe(&step.input));
+    let _ = write!(text, ": {} -> ", step.input);
     match &step.outcome {
         Ok(transition) => {
             let _ = write!(
