@@ -1,8 +1,6 @@
 //! The numbers of a geometry in a trace: a distance must fit a 32-bit float, and the floats
 //! JSON has no number for are written as strings that keep their bits (`docs/trace-format.md`).
 
-use std::io;
-
 use cooperation_trace::*;
 
 const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}}"#;
