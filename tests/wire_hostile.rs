@@ -5,6 +5,7 @@
 //! The memory tests count allocations with a process-wide allocator, so every test in this
 //! file holds one lock while it runs: no other test allocates while a count is taken.
 
+#[path = "wire/wire_fixtures.rs"]
 mod wire_fixtures;
 
 use std::alloc::System;

@@ -8,9 +8,7 @@
 //! value, and both the comment and the assertion's message name the deviation
 //! (`spec/cooperation.md` §9) that explains it.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use cooperation::rtc::{self, Binding, Kind, ModuleType, Rtc};
 use cooperation::*;
 

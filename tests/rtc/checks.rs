@@ -2,11 +2,10 @@
 //! command with generators that make accepted commands common, and the external status array's
 //! order at the values it is easy to get wrong.
 
-mod common;
-
 use std::cell::Cell;
 
-use common::*;
+use crate::common::*;
+use crate::Fixture;
 use cooperation::rtc;
 use cooperation::*;
 use proptest::prelude::*;
@@ -81,7 +80,7 @@ fn command_parsing_accepts_exactly_the_constants() {
 /// `-inf` comes first and a NaN of either sign last.
 #[test]
 fn the_external_array_puts_every_nan_last() {
-    let (mut rtc, mut state) = rtc_setup(false);
+    let mut fx = Fixture::new(false);
     let starts = [
         (1, f32::NAN),
         (2, -f32::NAN),
@@ -92,9 +91,11 @@ fn the_external_array_puts_every_nan_last() {
         (7, -3.0),
     ];
     for (n, start) in starts {
-        rtc_register_at(&mut rtc, &mut state, "intersection", n, start);
+        rtc_register_at(&mut fx.rtc, &mut fx.state, "intersection", n, start);
     }
-    let array = rtc.cooperate_status_array(&state, rtc::Time::new(3, 0));
+    let array = fx
+        .rtc
+        .cooperate_status_array(&fx.state, rtc::Time::new(3, 0));
     let order: Vec<SceneId> = array.statuses.iter().map(|s| s.uuid.into()).collect();
     assert_eq!(order, [3, 7, 5, 6, 4, 1, 2].map(id));
     assert!(array.statuses.windows(2).all(|w| listed_before(
