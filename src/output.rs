@@ -319,10 +319,16 @@ pub struct CommandsResponse {
     pub outcomes: Vec<CommandOutcome>,
 }
 
-/// The AD API `ResponseStatus`: success, a code and a message (`[COOP-API-STATUS.1]`).
-#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+/// The AD API `ResponseStatus` (`autoware_adapi_v1_msgs/ResponseStatus`): success, a code and
+/// a message (`[COOP-API-STATUS.1]`). Code 0 is plain success; the constants are errors (5xxxx)
+/// and warnings (6xxxx).
+///
+/// The same type is the wire message (`wire::ResponseStatus`, with the `wire`
+/// feature): read as rosbridge reads a message, a field left out takes its default, and a
+/// field it does not have is refused.
+#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 pub struct ResponseStatus {
     /// Whether the call did what was asked.
     pub success: bool,

@@ -11,7 +11,7 @@ use crate::{
 
 use super::{
     CooperationCommand, CooperationDecision, CooperationPolicy, CooperationStatus, FieldPath,
-    Malformed, Point, Pose, Quaternion, ResponseStatus, SetCooperationCommandsRequest,
+    Malformed, Point, Pose, Quaternion, SetCooperationCommandsRequest,
     SetCooperationPoliciesRequest, SteeringFactor, SteeringFactorArray, Uuid, VelocityFactor,
     VelocityFactorArray, FRAME_ID,
 };
@@ -513,29 +513,5 @@ impl SteeringFactorArray {
     pub fn to_factors(&self) -> Result<Vec<crate::SteeringFactor>, Malformed> {
         map_frame(&self.header.frame_id)?;
         each(&self.factors, crate::SteeringFactor::try_from).map_err(|e| e.in_field("factors"))
-    }
-}
-
-// -------------------------------------------------------------------------------------------
-// Response status
-// -------------------------------------------------------------------------------------------
-
-impl From<crate::ResponseStatus> for ResponseStatus {
-    fn from(status: crate::ResponseStatus) -> Self {
-        Self {
-            success: status.success,
-            code: status.code,
-            message: status.message,
-        }
-    }
-}
-
-impl From<ResponseStatus> for crate::ResponseStatus {
-    fn from(status: ResponseStatus) -> Self {
-        Self {
-            success: status.success,
-            code: status.code,
-            message: status.message,
-        }
     }
 }

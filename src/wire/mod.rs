@@ -26,10 +26,10 @@
 //!
 //! The messages keep their ROS names, so some share a name with a core type and are its wire
 //! form: [`wire::Pose`](Pose) is `geometry_msgs/Pose` (points and a quaternion), the core's
-//! [`Pose`](crate::Pose) holds the same numbers as arrays; [`wire::ResponseStatus`](ResponseStatus)
-//! and [`wire::CooperationStatus`](CooperationStatus) are the messages the core's
-//! [`ResponseStatus`](crate::ResponseStatus) and [`CooperationStatus`](crate::CooperationStatus)
-//! convert to; [`wire::Time`](Time) and [`wire::Uuid`](Uuid) are the ROS shapes. This is on
+//! [`Pose`](crate::Pose) holds the same numbers as arrays; [`wire::CooperationStatus`](CooperationStatus)
+//! is the message the core's [`CooperationStatus`](crate::CooperationStatus) converts to;
+//! [`wire::Time`](Time) and [`wire::Uuid`](Uuid) are the ROS shapes. [`wire::ResponseStatus`](ResponseStatus)
+//! is the core's `ResponseStatus` itself. This is on
 //! purpose: each name reads as the message definition it stands for. Name them through the
 //! module (`wire::Pose`, as the example does) rather than importing `wire::*` beside
 //! `cooperation::*`.

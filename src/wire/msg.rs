@@ -324,35 +324,9 @@ pub struct SteeringFactorArray {
 // Responses and services
 // -------------------------------------------------------------------------------------------
 
-/// The outcome of a call (`autoware_adapi_v1_msgs/ResponseStatus`): success, a code and a
-/// message. Code 0 is plain success; the constants are errors (5xxxx) and warnings (6xxxx).
-#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ResponseStatus {
-    /// Whether the call did what was asked.
-    pub success: bool,
-    /// `0`, or one of the constants.
-    pub code: u16,
-    /// Empty on plain success; otherwise what went wrong or what to know.
-    pub message: String,
-}
-
-impl ResponseStatus {
-    /// Error of no more specific kind.
-    pub const UNKNOWN: u16 = crate::ResponseStatus::UNKNOWN;
-    /// Error: the service is not ready.
-    pub const SERVICE_UNREADY: u16 = crate::ResponseStatus::SERVICE_UNREADY;
-    /// Error: the service timed out.
-    pub const SERVICE_TIMEOUT: u16 = crate::ResponseStatus::SERVICE_TIMEOUT;
-    /// Error: a transform failed.
-    pub const TRANSFORM_ERROR: u16 = crate::ResponseStatus::TRANSFORM_ERROR;
-    /// Error: the request's parameters were refused.
-    pub const PARAMETER_ERROR: u16 = crate::ResponseStatus::PARAMETER_ERROR;
-    /// Warning: the call is deprecated.
-    pub const DEPRECATED: u16 = crate::ResponseStatus::DEPRECATED;
-    /// Warning: the call changed nothing.
-    pub const NO_EFFECT: u16 = crate::ResponseStatus::NO_EFFECT;
-}
+/// The outcome of a call (`autoware_adapi_v1_msgs/ResponseStatus`): the core's own type,
+/// which is already the message, field for field.
+pub use crate::ResponseStatus;
 
 /// The request of `set_commands` (`autoware_adapi_v1_msgs/srv/SetCooperationCommands`).
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default, Serialize, Deserialize)]

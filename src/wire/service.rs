@@ -26,7 +26,7 @@ pub fn set_commands(
     request: &SetCooperationCommandsRequest,
 ) -> SetCooperationCommandsResponse {
     let status = match request.to_commands() {
-        Ok(commands) => state.set_commands(commands).status.into(),
+        Ok(commands) => state.set_commands(commands).status,
         Err(malformed) => malformed.to_status(),
     };
     SetCooperationCommandsResponse { status }
@@ -39,7 +39,7 @@ pub fn set_policies(
     request: &SetCooperationPoliciesRequest,
 ) -> SetCooperationPoliciesResponse {
     let status = match request.to_policies() {
-        Ok(policies) => state.set_policies(policies).into(),
+        Ok(policies) => state.set_policies(policies),
         Err(malformed) => malformed.to_status(),
     };
     SetCooperationPoliciesResponse { status }
@@ -54,7 +54,7 @@ pub fn get_policies(
 ) -> GetCooperationPoliciesResponse {
     let (status, policies) = state.get_policies();
     GetCooperationPoliciesResponse {
-        status: status.into(),
+        status,
         policies: policies.into_iter().map(Into::into).collect(),
     }
 }
