@@ -49,8 +49,6 @@
     clippy::indexing_slicing
 )]
 
-#[cfg(feature = "serde")]
-mod base64;
 mod decision;
 mod geometry;
 mod id;
@@ -60,6 +58,7 @@ mod module;
 mod output;
 mod phase;
 mod rejection;
+mod ros;
 pub mod rtc;
 mod rule;
 mod shared;

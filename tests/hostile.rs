@@ -474,6 +474,11 @@ fn rtc_time_saturates_and_nanosec_stays_below_a_second() {
     assert!(error.to_string().contains("nanosec"), "{error}");
     let time = serde_json::from_value::<rtc::Time>(json!({ "sec": -1, "nanosec": 999_999_999 }));
     assert_eq!(time.expect("in range"), rtc::Time::new(-1, 999_999_999));
+    // One type with the AD API's time, read as rosbridge reads it: a field left out is 0.
+    let time = serde_json::from_value::<rtc::Time>(json!({ "sec": 5 })).expect("reads");
+    assert_eq!(time, rtc::Time::new(5, 0));
+    let wire: cooperation::wire::Time = time;
+    assert_eq!(wire, cooperation::wire::Time { sec: 5, nanosec: 0 });
 }
 
 proptest! {

@@ -36,68 +36,8 @@ impl From<Uuid> for SceneId {
     }
 }
 
-/// `builtin_interfaces/Time`.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(try_from = "TimeFields"))]
-pub struct Time {
-    /// Seconds.
-    pub sec: i32,
-    /// Nanoseconds within the second, below 1 000 000 000.
-    pub nanosec: u32,
-}
-
-/// A [`Time`] as written, before its `nanosec` is checked.
-#[cfg(feature = "serde")]
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct TimeFields {
-    sec: i32,
-    nanosec: u32,
-}
-
-#[cfg(feature = "serde")]
-impl TryFrom<TimeFields> for Time {
-    type Error = String;
-
-    /// Refuses a `nanosec` of a whole second or more: such a time has a second form.
-    fn try_from(TimeFields { sec, nanosec }: TimeFields) -> Result<Self, String> {
-        if nanosec >= 1_000_000_000 {
-            return Err(format!(
-                "field `nanosec`: {nanosec} is not below 1000000000 (a second)"
-            ));
-        }
-        Ok(Self { sec, nanosec })
-    }
-}
-
-impl Time {
-    /// A time from seconds and nanoseconds.
-    #[must_use]
-    pub const fn new(sec: i32, nanosec: u32) -> Self {
-        Self { sec, nanosec }
-    }
-
-    /// This time moved back by `ms` milliseconds, saturating at the earliest representable
-    /// time. A `nanosec` of a second or more (which no decoded message holds) counts as the
-    /// seconds it makes, and a result past the latest representable time saturates there.
-    #[must_use]
-    pub fn before_ms(self, ms: u64) -> Self {
-        const NANOS: i64 = 1_000_000_000;
-        // Neither product nor sum can overflow: |sec| < 2^31 and nanosec < 2^32.
-        let now = i64::from(self.sec) * NANOS + i64::from(self.nanosec);
-        let back = i64::try_from(ms)
-            .unwrap_or(i64::MAX)
-            .saturating_mul(1_000_000);
-        let earliest = i64::from(i32::MIN) * NANOS;
-        let latest = i64::from(i32::MAX) * NANOS + (NANOS - 1);
-        let then = now.saturating_sub(back).clamp(earliest, latest);
-        Self {
-            sec: i32::try_from(then.div_euclid(NANOS)).unwrap_or(i32::MAX),
-            nanosec: u32::try_from(then.rem_euclid(NANOS)).unwrap_or(0),
-        }
-    }
-}
+/// `builtin_interfaces/Time`, shared with the AD API messages.
+pub use crate::ros::Time;
 
 /// `tier4_rtc_msgs/Command`: an operator's command, or a scene's command status.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]

@@ -15,17 +15,8 @@ use super::uuid::bytes_or_base64;
 // ROS shapes
 // -------------------------------------------------------------------------------------------
 
-/// A point in time (`builtin_interfaces/Time`): seconds and nanoseconds since the epoch.
-#[derive(
-    Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default, Serialize, Deserialize,
-)]
-#[serde(default, deny_unknown_fields)]
-pub struct Time {
-    /// Whole seconds.
-    pub sec: i32,
-    /// Nanoseconds past `sec`.
-    pub nanosec: u32,
-}
+/// A point in time (`builtin_interfaces/Time`), shared with the RTC messages.
+pub use crate::ros::Time;
 
 /// A message header (`std_msgs/Header`): when, and in which coordinate frame.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default, Serialize, Deserialize)]

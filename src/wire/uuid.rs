@@ -5,11 +5,11 @@ use core::fmt;
 use serde::de::{Deserializer, Error, SeqAccess, Visitor};
 
 use super::Uuid;
-use crate::base64;
+use crate::ros::base64;
 
 /// Reads a `uint8` array from a list of numbers (each 0 to 255), a base64 string (standard
 /// alphabet, `=` padding optional, no
-/// stray bits: [`crate::base64::decode`]), or serde bytes.
+/// stray bits: [`crate::ros::base64::decode`]), or serde bytes.
 pub(super) fn bytes_or_base64<'de, D: Deserializer<'de>>(
     deserializer: D,
 ) -> Result<Vec<u8>, D::Error> {

@@ -31,7 +31,7 @@ pub(crate) fn name() -> impl Strategy<Value = String> {
 }
 
 pub(crate) fn time() -> impl Strategy<Value = wire::Time> {
-    (any::<i32>(), any::<u32>()).prop_map(|(sec, nanosec)| wire::Time { sec, nanosec })
+    (any::<i32>(), 0..1_000_000_000u32).prop_map(|(sec, nanosec)| wire::Time { sec, nanosec })
 }
 
 pub(crate) fn header() -> impl Strategy<Value = wire::Header> {

@@ -33,7 +33,7 @@ impl<'de> Visitor<'de> for Bytes {
     }
 
     fn visit_str<E: Error>(self, text: &str) -> Result<Self::Value, E> {
-        let bytes = crate::base64::decode(text).map_err(E::custom)?;
+        let bytes = crate::ros::base64::decode(text).map_err(E::custom)?;
         let len = bytes.len();
         bytes
             .try_into()

@@ -46,6 +46,7 @@ const fn sextet(c: u8) -> Option<u8> {
 }
 
 /// The base64 digit of the low six bits of `value`.
+#[cfg(feature = "wire")]
 const fn digit(value: u32) -> char {
     // Always below 64, so every arm's result is in its range.
     let value = (value & 0x3f) as u8;
