@@ -1,8 +1,10 @@
-//! The ROS primitives the RTC and AD API messages share: the time stamp, and the one base64
-//! decoder that reads `uint8` arrays (UUIDs) as rosbridge writes them.
+//! The ROS primitives the RTC and AD API messages share: the time stamp, the one base64
+//! decoder that reads `uint8` arrays (UUIDs) as rosbridge writes them, and the field paths
+//! their errors name.
 
 #[cfg(feature = "serde")]
 pub(crate) mod base64;
+pub(crate) mod path;
 
 /// A point in time (`builtin_interfaces/Time`): seconds, and nanoseconds within the second.
 ///

@@ -569,7 +569,10 @@ fn coop_dev_constants_1() {
     let rtc::RtcError::Field(field) = &error else {
         panic!("{error:?}")
     };
-    assert_eq!((field.field.as_str(), field.value), ("state", 7));
+    assert_eq!(
+        (field.field.to_string().as_str(), field.value),
+        ("state", 7)
+    );
     // Upstream stores an undefined command type as the command status.
     let reply = lane_change.cooperate_commands(&rtc_commands(&[(id(1), 2)]));
     assert!(!reply.response.responses[0].success);

@@ -79,7 +79,7 @@ fn first_undefined(
 fn check_parse<T: Debug>(result: &Result<T, FieldError>, undefined: Option<String>) {
     match (result, undefined) {
         (Ok(_), None) => {}
-        (Err(error), Some(field)) => assert_eq!(error.field, field, "{error}"),
+        (Err(error), Some(field)) => assert_eq!(error.field.to_string(), field, "{error}"),
         (result, undefined) => panic!("parsed as {result:?}, expected {undefined:?} undefined"),
     }
 }
@@ -277,7 +277,7 @@ fn check_reply(
     }
     if let Some(field) = undefined {
         match &reply.result {
-            Err(RtcError::Field(error)) => assert_eq!(&error.field, field),
+            Err(RtcError::Field(error)) => assert_eq!(&error.field.to_string(), field),
             other => panic!("{field} undefined, answered {other:?}"),
         }
     }
@@ -348,7 +348,9 @@ fn auto_mode_with_module(
         let reply = rtc.auto_mode_with_module(state, request);
         assert_eq!(reply.response.success, reply.result.is_ok());
         match (&module, &reply.result) {
-            (Err(_), Err(RtcError::Field(error))) => assert_eq!(error.field, "module.type"),
+            (Err(_), Err(RtcError::Field(error))) => {
+                assert_eq!(error.field.to_string(), "module.type")
+            }
             (Ok(module), Err(RtcError::NoInterface { module: asked })) => {
                 assert!(!bound);
                 assert_eq!(asked, module);
@@ -415,7 +417,7 @@ fuzz_target!(|data: &[u8]| {
                 Ok(decision) => assert_eq!(rtc::Command::from(decision), command),
                 Err(error) => {
                     assert!(command.r#type > rtc::Command::ACTIVATE);
-                    assert_eq!(error.field, "type");
+                    assert_eq!(error.field.to_string(), "type");
                 }
             }
         }
@@ -424,7 +426,7 @@ fuzz_target!(|data: &[u8]| {
                 Ok(decoded) => assert_eq!(rtc::State::from(decoded), phase),
                 Err(error) => {
                     assert!(phase.r#type > rtc::State::FAILED);
-                    assert_eq!(error.field, "type");
+                    assert_eq!(error.field.to_string(), "type");
                 }
             }
         }

@@ -6,12 +6,14 @@ use core::fmt;
 use crate::{Phase, Rejection, SceneId};
 
 use super::ModuleType;
+use crate::ros::path::{FieldPath, PathSegment};
 
 /// A message field whose value is not one its message defines (`[COOP-DEV-CONSTANTS.1]`).
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub struct FieldError {
-    /// The field's path in the message, for example `commands[2].command.type`.
-    pub field: String,
+    /// The field's path in the message, for example `commands[2].command.type`: the same
+    /// paths the AD API messages' errors name ([`FieldPath`]).
+    pub field: FieldPath,
     /// The value that was given.
     pub value: u8,
     /// What the field accepts, for example `DEACTIVATE (0) or ACTIVATE (1)`.
@@ -21,16 +23,23 @@ pub struct FieldError {
 impl FieldError {
     pub(crate) fn new(field: &str, value: u8, expected: &'static str) -> Self {
         Self {
-            field: field.to_owned(),
+            field: FieldPath::field(field),
             value,
             expected,
         }
     }
 
-    /// The same error, with the field's path prefixed by the enclosing field's name.
+    /// The same error, inside the field `outer` of the enclosing message.
     #[must_use]
     pub fn within(mut self, outer: &str) -> Self {
-        self.field = format!("{outer}.{}", self.field);
+        self.field.prepend(PathSegment::Field(outer.to_owned()));
+        self
+    }
+
+    /// The same error, inside entry `index` of the enclosing list.
+    #[must_use]
+    pub fn at_index(mut self, index: usize) -> Self {
+        self.field.prepend(PathSegment::Index(index));
         self
     }
 }

@@ -88,6 +88,7 @@ mod error;
 mod module_type;
 mod msg;
 
+pub use crate::ros::path::{FieldPath, PathSegment};
 pub use adapter::{policy_for_auto_mode, Interface, Reply, Rtc, View};
 pub use binding::{Binding, Kind};
 pub use error::{FieldError, RtcError};

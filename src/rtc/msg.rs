@@ -222,14 +222,6 @@ impl From<ModuleType> for Module {
     }
 }
 
-/// Names the field of a constant-carrying message inside its parent: `{outer}.type`.
-fn named(error: FieldError, outer: &str) -> FieldError {
-    FieldError {
-        field: format!("{outer}.type"),
-        ..error
-    }
-}
-
 /// `tier4_rtc_msgs/CooperateStatus`: one scene as an RTC interface publishes it.
 #[derive(Clone, Copy, PartialEq, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -293,7 +285,7 @@ impl CooperateStatus {
         Ok(ParsedStatus {
             stamp: self.stamp,
             id: self.uuid.into(),
-            module: self.module.module_type().map_err(|e| named(e, "module"))?,
+            module: self.module.module_type().map_err(|e| e.within("module"))?,
             module_decision: if self.safe {
                 Decision::Activate
             } else {
@@ -303,8 +295,8 @@ impl CooperateStatus {
             command: self
                 .command_status
                 .decision()
-                .map_err(|e| named(e, "command_status"))?,
-            phase: self.state.phase().map_err(|e| named(e, "state"))?,
+                .map_err(|e| e.within("command_status"))?,
+            phase: self.state.phase().map_err(|e| e.within("state"))?,
             auto_mode: self.auto_mode,
             start_distance: self.start_distance,
             finish_distance: self.finish_distance,
@@ -335,7 +327,7 @@ impl CooperateStatusArray {
             .map(|(index, status)| {
                 status
                     .parse()
-                    .map_err(|e| e.within(&format!("statuses[{index}]")))
+                    .map_err(|e| e.at_index(index).within("statuses"))
             })
             .collect()
     }
@@ -361,8 +353,8 @@ impl CooperateCommand {
     /// # Errors
     /// A [`FieldError`] on `module.type` or `command.type` if it is not a defined constant.
     pub fn parse(&self) -> Result<crate::Command, FieldError> {
-        self.module.module_type().map_err(|e| named(e, "module"))?;
-        let decision = self.command.decision().map_err(|e| named(e, "command"))?;
+        self.module.module_type().map_err(|e| e.within("module"))?;
+        let decision = self.command.decision().map_err(|e| e.within("command"))?;
         Ok(crate::Command {
             id: self.uuid.into(),
             decision: match decision {
@@ -431,7 +423,7 @@ impl CooperateCommandsRequest {
             .map(|(index, command)| {
                 command
                     .parse()
-                    .map_err(|e| e.within(&format!("commands[{index}]")))
+                    .map_err(|e| e.at_index(index).within("commands"))
             })
             .collect()
     }

@@ -91,9 +91,17 @@ fn statuses_parse_with_the_field_named() {
     assert_eq!(parsed[0].module, rtc::ModuleType::None);
     assert_eq!(parsed[0].command, Decision::Deactivate);
     array.statuses[1].state = rtc::State::new(9);
+    let field = array.parse().expect_err("undefined").field;
+    assert_eq!(field.to_string(), "statuses[1].state.type");
+    // The wire layer's path type, segment by segment.
     assert_eq!(
-        array.parse().expect_err("undefined").field,
-        "statuses[1].state.type"
+        field.segments(),
+        [
+            rtc::PathSegment::Field("statuses".into()),
+            rtc::PathSegment::Index(1),
+            rtc::PathSegment::Field("state".into()),
+            rtc::PathSegment::Field("type".into()),
+        ]
     );
     array.statuses[1].state = rtc::State::new(rtc::State::ABORTING);
     array.statuses[1].module = rtc::Module::new(20);

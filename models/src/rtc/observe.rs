@@ -29,7 +29,7 @@ impl Said {
     pub fn refused(kind: Kind, error: &RtcError) -> Self {
         let mut said = Self::of(kind, Answer::Refused(Refusal::of(error)));
         if let RtcError::Field(error) = error {
-            said.field = Some((error.field.clone(), error.value));
+            said.field = Some((error.field.to_string(), error.value));
         }
         said
     }

@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::ros::path::FieldPath;
 use crate::rtc::{
     AutoModeRequest, AutoModeResponse, AutoModeStatus, Binding, CooperateCommandsRequest,
     CooperateCommandsResponse, CooperateStatusArray, FieldError, RtcError, Time,
@@ -183,7 +184,7 @@ impl Interface<'_> {
         let phase = crate::rtc::State::new(state)
             .phase()
             .map_err(|e| FieldError {
-                field: "state".to_owned(),
+                field: FieldPath::field("state"),
                 ..e
             })?;
         let decision = if safe {
