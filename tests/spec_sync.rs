@@ -7,52 +7,30 @@ use std::collections::{BTreeMap, BTreeSet};
 use cooperation::{merge, Decision, Invariant, Limits, OperatorDecision, Phase, Policy, Rule};
 use spec_tables::*;
 
-/// The `#### [TAG]` headings of the spec section whose heading starts `## {number}.`.
+/// The tags the spec defines in section `number` (`## {number}.`); a tag defined twice fails.
 fn section_tags(spec: &str, number: u32) -> BTreeSet<String> {
-    let start = format!("## {number}.");
-    let mut in_section = false;
     let mut tags = BTreeSet::new();
-    for line in spec.lines() {
-        if line.starts_with("## ") {
-            in_section = line.starts_with(&start);
-        } else if in_section {
-            if let Some(rest) = line.strip_prefix("#### [") {
-                let tag = rest.split(']').next().expect("a closing bracket");
-                assert!(tags.insert(tag.to_owned()), "tag {tag} is defined twice");
-            }
-        }
+    for tag in spec_text::tags(spec)
+        .into_iter()
+        .filter(|t| t.section == number)
+    {
+        assert!(
+            tags.insert(tag.tag.clone()),
+            "tag {} is defined twice",
+            tag.tag
+        );
     }
     tags
 }
 
-/// Every `[COOP-…]` tag written anywhere in `text`.
-fn mentioned_tags(text: &str) -> BTreeSet<String> {
-    text.split('[')
-        .skip(1)
-        .filter_map(|rest| rest.split(']').next())
-        .filter(|tag| tag.starts_with("COOP-") && !tag.contains(char::is_whitespace))
-        .map(str::to_owned)
-        .collect()
-}
+use spec_text::mentioned_tags;
 
 /// The text of every `.rs` file under `dir`, subdirectories included.
 fn read_dir(dir: &str) -> String {
-    fn walk(path: &std::path::Path, text: &mut String) {
-        for entry in std::fs::read_dir(path).expect("directory") {
-            let path = entry.expect("entry").path();
-            if path.is_dir() {
-                walk(&path, text);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                *text += &std::fs::read_to_string(path).expect("readable");
-            }
-        }
-    }
-    let mut text = String::new();
-    walk(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir),
-        &mut text,
-    );
-    text
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
+    let files = spec_text::rust_sources(&root);
+    assert!(!files.is_empty(), "no Rust files under {dir}");
+    files.into_iter().map(|(_, text)| text).collect()
 }
 
 fn test_name(tag: &str) -> String {

@@ -7,6 +7,8 @@
 use core::fmt::Write as _;
 use std::path::Path;
 
+use crate::spec::text;
+
 /// One tag's row.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Row {
@@ -26,61 +28,14 @@ pub struct Row {
     pub tests: Vec<String>,
 }
 
-/// Reads the tags of the spec's sections 5 (rules), 6 (definitions), 8 (invariants) and 9
+/// The tags of the spec's sections 5 (rules), 6 (definitions), 8 (invariants) and 9
 /// (deviations), with the heading they sit under.
 fn spec_tags(spec: &str) -> Vec<(String, u32, String)> {
-    let mut section = 0;
-    let mut heading = String::new();
-    let mut tags = Vec::new();
-    for line in spec.lines() {
-        if let Some(rest) = line.strip_prefix("## ") {
-            section = rest
-                .split('.')
-                .next()
-                .and_then(|n| n.trim().parse().ok())
-                .unwrap_or(0);
-            heading = rest.trim().to_owned();
-        } else if let Some(rest) = line.strip_prefix("### ") {
-            heading = rest.trim().to_owned();
-        } else if let Some(rest) = line.strip_prefix("#### [") {
-            if let Some(tag) = rest.split(']').next() {
-                if matches!(section, 5 | 6 | 8 | 9) {
-                    tags.push((tag.to_owned(), section, heading.clone()));
-                }
-            }
-        }
-    }
-    tags
-}
-
-/// The `.rs` files under a directory, subdirectories included, sorted by their path relative
-/// to it (`state.rs`, `rtc/adapter.rs`), with their text.
-fn sources(dir: &Path) -> Vec<(String, String)> {
-    fn walk(root: &Path, dir: &Path, files: &mut Vec<(String, String)>) {
-        for path in std::fs::read_dir(dir)
-            .into_iter()
-            .flatten()
-            .flatten()
-            .map(|entry| entry.path())
-        {
-            if path.is_dir() {
-                walk(root, &path, files);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let name = path
-                    .strip_prefix(root)
-                    .unwrap_or(&path)
-                    .to_string_lossy()
-                    .replace('\\', "/");
-                if let Ok(text) = std::fs::read_to_string(&path) {
-                    files.push((name, text));
-                }
-            }
-        }
-    }
-    let mut files = Vec::new();
-    walk(dir, dir, &mut files);
-    files.sort();
-    files
+    text::tags(spec)
+        .into_iter()
+        .filter(|tag| matches!(tag.section, 5 | 6 | 8 | 9))
+        .map(|tag| (tag.tag, tag.section, tag.heading))
+        .collect()
 }
 
 /// The name of the function a line sits in: the nearest `fn name` at or above it.
@@ -153,10 +108,10 @@ fn names(property: &str) -> impl Iterator<Item = &str> {
 #[must_use]
 pub fn rows(root: &Path) -> Vec<Row> {
     let spec = std::fs::read_to_string(root.join("spec/cooperation.md")).unwrap_or_default();
-    let code = sources(&root.join("src"));
-    let mut tests = sources(&root.join("tests"));
+    let code = text::rust_sources(&root.join("src"));
+    let mut tests = text::rust_sources(&root.join("tests"));
     tests.extend(
-        sources(&root.join("models/tests"))
+        text::rust_sources(&root.join("models/tests"))
             .into_iter()
             .map(|(n, t)| (format!("models/{n}"), t)),
     );

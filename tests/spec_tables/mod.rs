@@ -8,26 +8,16 @@ pub fn spec() -> String {
         .expect("spec/cooperation.md is readable")
 }
 
+/// The spec's text reader, shared with the model checker (one reader of the spec).
+#[path = "../../models/src/spec/text.rs"]
+pub mod spec_text;
+
 /// The rows of the first table whose header row starts with `header`, as trimmed cells.
 pub fn table(spec: &str, header: &str) -> Vec<Vec<String>> {
-    let mut lines = spec.lines().skip_while(|line| !line.starts_with(header));
-    assert!(
-        lines.next().is_some(),
-        "no table starting {header:?} in the spec"
-    );
-    let separator = lines.next().unwrap_or_default();
-    assert!(
-        separator.starts_with("|---"),
-        "table {header:?} has no separator row"
-    );
-    lines
-        .take_while(|line| line.starts_with('|'))
-        .map(|line| {
-            line.trim_matches('|')
-                .split('|')
-                .map(|cell| cell.trim().to_owned())
-                .collect()
-        })
+    spec_text::table_rows(spec, header)
+        .unwrap_or_else(|| panic!("no table starting {header:?}, with its separator, in the spec"))
+        .into_iter()
+        .map(|row| row.into_iter().map(str::to_owned).collect())
         .collect()
 }
 

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use cooperation::{Decision, OperatorDecision, Phase, Policy};
 
 pub mod rules;
+pub mod text;
 
 /// The text of the normative specification, compiled in.
 pub const SPEC: &str = include_str!("../../../spec/cooperation.md");
@@ -78,18 +79,9 @@ impl MergeTable {
     }
 }
 
-/// The rows of the Markdown table whose header line starts with `header`, as trimmed cells,
-/// the separator line skipped.
+/// The rows of the table whose header line starts with `header` ([`text::table_rows`]).
 fn rows<'a>(spec: &'a str, header: &str) -> Result<Vec<Vec<&'a str>>, TableError> {
-    let mut lines = spec.lines().skip_while(|line| !line.starts_with(header));
-    if lines.next().is_none() {
-        return Err(TableError(format!("no table headed {header:?}")));
-    }
-    Ok(lines
-        .skip(1)
-        .take_while(|line| line.starts_with('|'))
-        .map(|line| line.trim_matches('|').split('|').map(str::trim).collect())
-        .collect())
+    text::table_rows(spec, header).ok_or_else(|| TableError(format!("no table headed {header:?}")))
 }
 
 /// The lifecycle table of spec §7: which phase an owner's update may move a scene to.
