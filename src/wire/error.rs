@@ -328,39 +328,35 @@ pub enum Malformed {
     },
 }
 
+/// `$body` with `$path` bound to the path of whichever fault `$fault` is: every variant
+/// listed once, for both the shared and the mutable borrow.
+macro_rules! with_path {
+    ($fault:expr, $path:ident => $body:expr) => {
+        match $fault {
+            Malformed::NotJson { path: $path, .. }
+            | Malformed::Shape { path: $path, .. }
+            | Malformed::UndefinedConstant { path: $path, .. }
+            | Malformed::UnacceptedConstant { path: $path, .. }
+            | Malformed::UuidLength { path: $path, .. }
+            | Malformed::UnknownBehavior { path: $path, .. }
+            | Malformed::UnknownSequence { path: $path, .. }
+            | Malformed::TooManyCooperation { path: $path, .. }
+            | Malformed::NoCooperation { path: $path }
+            | Malformed::Frame { path: $path, .. }
+            | Malformed::TooLarge { path: $path, .. } => $body,
+        }
+    };
+}
+
 impl Malformed {
     /// Where the fault is.
     #[must_use]
     pub const fn path(&self) -> &FieldPath {
-        match self {
-            Self::NotJson { path, .. }
-            | Self::Shape { path, .. }
-            | Self::UndefinedConstant { path, .. }
-            | Self::UnacceptedConstant { path, .. }
-            | Self::UuidLength { path, .. }
-            | Self::UnknownBehavior { path, .. }
-            | Self::UnknownSequence { path, .. }
-            | Self::TooManyCooperation { path, .. }
-            | Self::NoCooperation { path }
-            | Self::Frame { path, .. }
-            | Self::TooLarge { path, .. } => path,
-        }
+        with_path!(self, path => path)
     }
 
     fn path_mut(&mut self) -> &mut FieldPath {
-        match self {
-            Self::NotJson { path, .. }
-            | Self::Shape { path, .. }
-            | Self::UndefinedConstant { path, .. }
-            | Self::UnacceptedConstant { path, .. }
-            | Self::UuidLength { path, .. }
-            | Self::UnknownBehavior { path, .. }
-            | Self::UnknownSequence { path, .. }
-            | Self::TooManyCooperation { path, .. }
-            | Self::NoCooperation { path }
-            | Self::Frame { path, .. }
-            | Self::TooLarge { path, .. } => path,
-        }
+        with_path!(self, path => path)
     }
 
     /// The same fault, seen from the message that holds the faulty one in field `name`.

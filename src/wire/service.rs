@@ -66,11 +66,16 @@ pub fn velocity_factors(state: &State, stamp: Time) -> VelocityFactorArray {
     let mut factors = Vec::new();
     state.velocity_factors_into(&mut factors);
     VelocityFactorArray {
-        header: Header {
-            stamp,
-            frame_id: FRAME_ID.to_owned(),
-        },
+        header: map_header(stamp),
         factors: factors.into_iter().map(Into::into).collect(),
+    }
+}
+
+/// A stream's header: `stamp`, in the `map` frame.
+fn map_header(stamp: Time) -> Header {
+    Header {
+        stamp,
+        frame_id: FRAME_ID.to_owned(),
     }
 }
 
@@ -81,10 +86,7 @@ pub fn steering_factors(state: &State, stamp: Time) -> SteeringFactorArray {
     let mut factors = Vec::new();
     state.steering_factors_into(&mut factors);
     SteeringFactorArray {
-        header: Header {
-            stamp,
-            frame_id: FRAME_ID.to_owned(),
-        },
+        header: map_header(stamp),
         factors: factors.into_iter().map(Into::into).collect(),
     }
 }
