@@ -4,7 +4,7 @@
 
 use cooperation::{
     Behavior, Command, CommandOutcome, Config, Decision, Geometry, Input, Module, OperatorDecision,
-    Policy, PolicySetting, SceneId, State,
+    Policy, PolicySetting, Report, SceneId, State,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -23,9 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         state.apply(&Input::Register {
             id: SceneId::from_u128(n),
             module,
-            decision,
-            requested: false,
-            geometry,
+            report: Report::new(decision, geometry),
         })?;
     }
 

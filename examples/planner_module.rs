@@ -3,8 +3,8 @@
 //! scene when done. Run it with `cargo run --example planner_module`.
 
 use cooperation::{
-    Behavior, Config, Decision, Direction, Geometry, Input, Module, Phase, Policy, Rule, SceneId,
-    State,
+    Behavior, Config, Decision, Direction, Geometry, Input, Module, Phase, Policy, Report, Rule,
+    SceneId, State,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -18,9 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     state.apply(&Input::Register {
         id,
         module: lane_change,
-        decision: Decision::Activate,
-        requested: false,
-        geometry: geometry(distance),
+        report: Report::new(Decision::Activate, geometry(distance)),
     })?;
 
     for cycle in 1..=6 {
@@ -41,9 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             id,
             module: lane_change,
             phase,
-            decision,
-            requested: false,
-            geometry: geometry(distance),
+            report: Report::new(decision, geometry(distance)),
         };
         state.apply(&update)?;
         // ...then plan with the merged decision, never with the module's own.
@@ -68,9 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         id,
         module: lane_change,
         phase: Phase::Succeeded,
-        decision: Decision::Activate,
-        requested: false,
-        geometry: geometry(0.0),
+        report: Report::new(Decision::Activate, geometry(0.0)),
     };
     let transition = state.apply(&done)?;
     assert_eq!(transition.rule, Rule::OwnerFinish);
@@ -86,9 +80,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let again = Input::Register {
         id,
         module: lane_change,
-        decision: Decision::Activate,
-        requested: false,
-        geometry: geometry(50.0),
+        report: Report::new(Decision::Activate, geometry(50.0)),
     };
     let rejection = state
         .apply(&again)

@@ -2,13 +2,19 @@
 
 use crate::{Decision, Geometry, Module, OperatorDecision, Phase, Policy, SceneId};
 
+#[cfg(feature = "serde")]
+mod form;
+
 /// One input to [`State::apply`](crate::State::apply).
 ///
 /// Scene owners (planning modules) send `Register`, `Update` and `Remove`; operators send
 /// `SetCommands` and `SetPolicies`; the system clock sends `Tick`.
+///
+/// Serialised, an owner's [`Report`] is not nested: its fields sit beside `id` and `module`,
+/// as in `{"Register": {"id": …, "module": …, "decision": …, "requested": …, "geometry": …}}`.
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+#[cfg_attr(feature = "serde", serde(from = "form::Input", into = "form::Input"))]
 pub enum Input {
     /// A module opens a scene under an identifier it chose (`[COOP-REG-NEW.1]`).
     Register {
@@ -16,14 +22,9 @@ pub enum Input {
         id: SceneId,
         /// The module the scene belongs to, for ever.
         module: Module,
-        /// The module's first decision.
-        decision: Decision,
-        /// The owner asks for an operator decision whatever the module's policy
-        /// (`[COOP-REQUESTED.1]`). Absent in a serialised input means `false`.
-        #[cfg_attr(feature = "serde", serde(default))]
-        requested: bool,
-        /// Where the scene is; its kind (velocity or steering) is fixed from here on.
-        geometry: Geometry,
+        /// The module's first decision, its request and the scene's geometry, whose kind
+        /// (velocity or steering) is fixed from here on.
+        report: Report,
     },
     /// A scene's owner reports its phase, decision and geometry (`[COOP-OWN-UPDATE.1]`).
     Update {
@@ -33,14 +34,8 @@ pub enum Input {
         module: Module,
         /// The phase the owner moves the scene to.
         phase: Phase,
-        /// The module's current decision.
-        decision: Decision,
-        /// Whether the owner asks for an operator decision (`[COOP-REQUESTED.1]`). Absent in a
-        /// serialised input means `false`.
-        #[cfg_attr(feature = "serde", serde(default))]
-        requested: bool,
-        /// The scene's current geometry.
-        geometry: Geometry,
+        /// The module's current decision, its request and the scene's current geometry.
+        report: Report,
     },
     /// A scene's owner drops the scene (`[COOP-OWN-REMOVE.1]`).
     Remove {
@@ -65,6 +60,48 @@ pub enum Input {
         /// How much time passed since the previous tick, in milliseconds.
         elapsed_ms: u64,
     },
+}
+
+/// What a scene's owner reports each time it registers or updates the scene: the one payload
+/// [`Input::Register`] and [`Input::Update`] share.
+///
+/// ```
+/// use cooperation::{Decision, Geometry, Report};
+///
+/// let report = Report::new(Decision::Deactivate, Geometry::velocity(12.0));
+/// assert!(!report.requested);
+/// assert!(report.requesting().requested);
+/// ```
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct Report {
+    /// The module's decision.
+    pub decision: Decision,
+    /// The owner asks for an operator decision whatever the module's policy
+    /// (`[COOP-REQUESTED.1]`). Absent in a serialised input means `false`.
+    pub requested: bool,
+    /// Where the scene is.
+    pub geometry: Geometry,
+}
+
+impl Report {
+    /// A report of `decision` at `geometry`, asking for no operator decision.
+    #[must_use]
+    pub const fn new(decision: Decision, geometry: Geometry) -> Self {
+        Self {
+            decision,
+            requested: false,
+            geometry,
+        }
+    }
+
+    /// This report, asking for an operator decision (`[COOP-REQUESTED.1]`).
+    #[must_use]
+    pub const fn requesting(self) -> Self {
+        Self {
+            requested: true,
+            ..self
+        }
+    }
 }
 
 /// One operator command: an operator decision for the scene with this identifier.
@@ -104,31 +141,25 @@ impl<F: Fn(SceneId) -> String> core::fmt::Display for Described<'_, F> {
         let name = &self.name;
         let requested = |requested: bool| if requested { " requested" } else { "" };
         match self.input {
-            Input::Register {
-                id,
-                module,
-                decision,
-                requested: asks,
-                geometry,
-            } => write!(
+            Input::Register { id, module, report } => write!(
                 f,
-                "register {} {module} {decision}{} {}",
+                "register {} {module} {}{} {}",
                 name(*id),
-                requested(*asks),
-                geometry.kind()
+                report.decision,
+                requested(report.requested),
+                report.geometry.kind()
             ),
             Input::Update {
                 id,
                 module,
                 phase,
-                decision,
-                requested: asks,
-                ..
+                report,
             } => write!(
                 f,
-                "update {} {module} {phase} {decision}{}",
+                "update {} {module} {phase} {}{}",
                 name(*id),
-                requested(*asks)
+                report.decision,
+                requested(report.requested)
             ),
             Input::Remove { id, module } => write!(f, "remove {} {module}", name(*id)),
             Input::SetCommands { commands } => {
@@ -194,9 +225,11 @@ mod tests {
         let register = Input::Register {
             id,
             module,
-            decision: Decision::Activate,
-            requested: true,
-            geometry: Geometry::steering(Direction::Left, 1.0, 2.0),
+            report: Report::new(
+                Decision::Activate,
+                Geometry::steering(Direction::Left, 1.0, 2.0),
+            )
+            .requesting(),
         };
         assert_eq!(
             register.to_string(),
@@ -219,9 +252,7 @@ mod tests {
             id,
             module,
             phase: Phase::Running,
-            decision: Decision::Deactivate,
-            requested: false,
-            geometry: Geometry::velocity(3.0),
+            report: Report::new(Decision::Deactivate, Geometry::velocity(3.0)),
         };
         assert_eq!(
             update.describe_with(short).to_string(),

@@ -23,7 +23,7 @@
 //! // The module opens a scene and decides not to change lanes.
 //! let id = SceneId::from_u128(0x5678);
 //! let geometry = Geometry::steering(Direction::Left, 30.0, 60.0);
-//! let register = Input::Register { id, module: lane_change, decision: Decision::Deactivate, requested: false, geometry };
+//! let register = Input::Register { id, module: lane_change, report: Report::new(Decision::Deactivate, geometry) };
 //! assert_eq!(state.apply(&register)?.rule, Rule::RegisterNew);
 //! assert_eq!(state.merged_decision(id), Some(Decision::Deactivate));
 //!
@@ -72,7 +72,7 @@ pub use geometry::{
     Direction, Distance, FactorKind, Geometry, Pose, SteeringStatus, VelocityStatus,
 };
 pub use id::{InvalidSceneId, SceneId};
-pub use input::{Command, Described, Input, PolicySetting};
+pub use input::{Command, Described, Input, PolicySetting, Report};
 
 pub use module::{Behavior, Module, Sequence, UnknownName};
 pub use output::{

@@ -26,7 +26,7 @@ use crate::{
 /// let planner = Arc::clone(&shared);
 /// std::thread::spawn(move || {
 ///     let geometry = Geometry::velocity(12.0);
-///     let register = Input::Register { id, module: lane_change, decision: Decision::Activate, requested: false, geometry };
+///     let register = Input::Register { id, module: lane_change, report: Report::new(Decision::Activate, geometry) };
 ///     planner.apply(&register).map(|t| t.rule)
 /// })
 /// .join()

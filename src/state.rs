@@ -8,8 +8,8 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use crate::table::{IdTable, TableLayout};
 
 use crate::{
-    Command, CommandFailure, CommandOutcome, Decision, Geometry, Input, Module, OperatorDecision,
-    Phase, Policy, PolicySetting, Rejection, RetireReason, Retirement, Rule, SceneId,
+    Command, CommandFailure, CommandOutcome, Input, Module, OperatorDecision, Phase, Policy,
+    PolicySetting, Rejection, Report, RetireReason, Retirement, Rule, SceneId,
 };
 
 /// What an accepted input did.
@@ -36,17 +36,13 @@ enum Plan<'a> {
     Register {
         id: SceneId,
         module: Module,
-        decision: Decision,
-        requested: bool,
-        geometry: &'a Geometry,
+        report: &'a Report,
     },
     /// `[COOP-OWN-UPDATE.1]`, for the scene at `at` in the table: found once, by `decide`.
     Update {
         at: usize,
         phase: Phase,
-        decision: Decision,
-        requested: bool,
-        geometry: &'a Geometry,
+        report: &'a Report,
     },
     /// `[COOP-OWN-FINISH.1]` or `[COOP-OWN-REMOVE.1]`.
     Retire {
@@ -184,21 +180,13 @@ impl State {
     #[inline(always)]
     fn decide<'a>(&self, input: &'a Input) -> Result<Plan<'a>, Rejection> {
         match input {
-            Input::Register {
-                id,
-                module,
-                decision,
-                requested,
-                geometry,
-            } => self.decide_register(*id, *module, *decision, *requested, geometry),
+            Input::Register { id, module, report } => self.decide_register(*id, *module, report),
             Input::Update {
                 id,
                 module,
                 phase,
-                decision,
-                requested,
-                geometry,
-            } => self.decide_update(*id, *module, *phase, *decision, *requested, geometry),
+                report,
+            } => self.decide_update(*id, *module, *phase, report),
             Input::Remove { id, module } => {
                 self.owned_scene(*id, *module)?;
                 // [COOP-OWN-REMOVE.1]
@@ -218,37 +206,25 @@ impl State {
     #[inline(always)]
     fn commit(&mut self, plan: Plan<'_>) -> Transition {
         match plan {
-            Plan::Register {
-                id,
-                module,
-                decision,
-                requested,
-                geometry,
-            } => {
+            Plan::Register { id, module, report } => {
                 let scene = Scene {
                     module,
                     phase: Phase::WaitingForExecution,
-                    module_decision: decision,
+                    module_decision: report.decision,
                     operator_decision: OperatorDecision::Undecided,
-                    requested,
+                    requested: report.requested,
                     age_ms: 0,
-                    geometry: *geometry,
+                    geometry: report.geometry,
                 };
                 self.scenes.insert(id, scene);
                 Transition::by(Rule::RegisterNew)
             }
-            Plan::Update {
-                at,
-                phase,
-                decision,
-                requested,
-                geometry,
-            } => {
+            Plan::Update { at, phase, report } => {
                 if let Some(scene) = self.scenes.value_at_mut(at) {
                     scene.phase = phase;
-                    scene.module_decision = decision;
-                    scene.requested = requested;
-                    scene.geometry = *geometry;
+                    scene.module_decision = report.decision;
+                    scene.requested = report.requested;
+                    scene.geometry = report.geometry;
                     scene.age_ms = 0;
                 }
                 Transition::by(Rule::OwnerUpdate)
@@ -303,9 +279,7 @@ impl State {
         &self,
         id: SceneId,
         module: Module,
-        decision: Decision,
-        requested: bool,
-        geometry: &'a Geometry,
+        report: &'a Report,
     ) -> Result<Plan<'a>, Rejection> {
         // [COOP-REG-RETIRED.1]
         if let Some(retirement) = self.retired.get(&id) {
@@ -337,13 +311,7 @@ impl State {
             });
         }
         // [COOP-REG-NEW.1]
-        Ok(Plan::Register {
-            id,
-            module,
-            decision,
-            requested,
-            geometry,
-        })
+        Ok(Plan::Register { id, module, report })
     }
 
     #[inline(always)]
@@ -352,17 +320,15 @@ impl State {
         id: SceneId,
         module: Module,
         phase: Phase,
-        decision: Decision,
-        requested: bool,
-        geometry: &'a Geometry,
+        report: &'a Report,
     ) -> Result<Plan<'a>, Rejection> {
         let (at, scene) = self.owned_scene(id, module)?;
         // [COOP-OWN-KIND.1]
-        if scene.geometry.kind() != geometry.kind() {
+        if scene.geometry.kind() != report.geometry.kind() {
             return Err(Rejection::KindMismatch {
                 id,
                 registered: scene.geometry.kind(),
-                given: geometry.kind(),
+                given: report.geometry.kind(),
             });
         }
         // [COOP-OWN-TRANSITION.1]
@@ -386,13 +352,9 @@ impl State {
                 rule: Rule::OwnerFinish,
             },
             // [COOP-OWN-UPDATE.1]
-            Phase::WaitingForExecution | Phase::Running | Phase::Aborting => Plan::Update {
-                at,
-                phase,
-                decision,
-                requested,
-                geometry,
-            },
+            Phase::WaitingForExecution | Phase::Running | Phase::Aborting => {
+                Plan::Update { at, phase, report }
+            }
         })
     }
 

@@ -85,9 +85,7 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                 let register = Input::Register {
                     id: scene(p, n),
                     module: module(p),
-                    decision: decision(0, n),
-                    requested: false,
-                    geometry: Geometry::velocity(n as f32),
+                    report: Report::new(decision(0, n), Geometry::velocity(n as f32)),
                 };
                 assert_eq!(
                     shared.apply(&register).map(|t| t.rule),
@@ -101,9 +99,7 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                         id: scene(p, n),
                         module: module(p),
                         phase: Phase::Running,
-                        decision: decision(round, n),
-                        requested: false,
-                        geometry: Geometry::velocity(n as f32),
+                        report: Report::new(decision(round, n), Geometry::velocity(n as f32)),
                     })
                     .collect();
                 let mut accepted = 0;
@@ -277,9 +273,7 @@ fn a_panicking_reader_does_not_break_the_handle() {
     let register = Input::Register {
         id,
         module: module(0),
-        decision: Decision::Activate,
-        requested: false,
-        geometry: Geometry::velocity(1.0),
+        report: Report::new(Decision::Activate, Geometry::velocity(1.0)),
     };
     shared.apply(&register).expect("registers");
     let before = shared.snapshot();

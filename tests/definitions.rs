@@ -209,9 +209,7 @@ fn coop_requested_1() {
     let register = Input::Register {
         id: three,
         module: LANE_CHANGE,
-        decision: Decision::Activate,
-        requested: true,
-        geometry: Geometry::velocity(1.0),
+        report: Report::new(Decision::Activate, Geometry::velocity(1.0)).requesting(),
     };
     fires(&mut state, register, Rule::RegisterNew);
     assert_eq!(state.merged_decision(three), Some(Decision::Deactivate));
@@ -322,9 +320,7 @@ fn coop_out_order_1() {
         let input = Input::Register {
             id: id(n),
             module: LANE_CHANGE,
-            decision: Decision::Activate,
-            requested: false,
-            geometry: Geometry::velocity(distance),
+            report: Report::new(Decision::Activate, Geometry::velocity(distance)),
         };
         fires(&mut state, input, Rule::RegisterNew);
     }
@@ -332,9 +328,10 @@ fn coop_out_order_1() {
         let input = Input::Register {
             id: id(n),
             module: AVOIDANCE,
-            decision: Decision::Activate,
-            requested: false,
-            geometry: Geometry::steering(Direction::Right, start, start + 20.0),
+            report: Report::new(
+                Decision::Activate,
+                Geometry::steering(Direction::Right, start, start + 20.0),
+            ),
         };
         fires(&mut state, input, Rule::RegisterNew);
     }

@@ -379,9 +379,7 @@ fn coop_dev_order_1() {
         let input = Input::Register {
             id: id(n),
             module: LANE_CHANGE,
-            decision: Decision::Activate,
-            requested: false,
-            geometry: Geometry::velocity(distance),
+            report: Report::new(Decision::Activate, Geometry::velocity(distance)),
         };
         fires(&mut state, input, Rule::RegisterNew);
     }

@@ -151,17 +151,17 @@ fn every_input() -> Vec<Input> {
         Input::Register {
             id: id(1),
             module,
-            decision: Decision::Activate,
-            requested: true,
-            geometry: Geometry::steering(Direction::Left, 1.0, 2.0),
+            report: Report::new(
+                Decision::Activate,
+                Geometry::steering(Direction::Left, 1.0, 2.0),
+            )
+            .requesting(),
         },
         Input::Update {
             id: id(1),
             module,
             phase: Phase::Running,
-            decision: Decision::Deactivate,
-            requested: false,
-            geometry: velocity(),
+            report: Report::new(Decision::Deactivate, velocity()),
         },
         Input::Remove { id: id(1), module },
         Input::SetCommands {
@@ -187,16 +187,15 @@ fn busy_state() -> State {
         Input::Register {
             id: id(1),
             module: LANE_CHANGE,
-            decision: Decision::Activate,
-            requested: false,
-            geometry: Geometry::steering(Direction::Right, 3.0, 9.0),
+            report: Report::new(
+                Decision::Activate,
+                Geometry::steering(Direction::Right, 3.0, 9.0),
+            ),
         },
         Input::Register {
             id: id(2),
             module: AVOIDANCE,
-            decision: Decision::Deactivate,
-            requested: true,
-            geometry: velocity(),
+            report: Report::new(Decision::Deactivate, velocity()).requesting(),
         },
         register(id(3), LANE_CHANGE, Decision::Activate),
         Input::Remove {
@@ -379,13 +378,7 @@ proptest! {
             status: SteeringStatus::Turning,
         };
         let mut state = state();
-        state.apply(&Input::Register {
-            id: id(9),
-            module: LANE_CHANGE,
-            decision: Decision::Activate,
-            requested: false,
-            geometry,
-        }).expect("registers");
+        state.apply(&Input::Register { id: id(9), module: LANE_CHANGE, report: Report::new(Decision::Activate, geometry) }).expect("registers");
         let text = serde_json::to_string(&state).expect("serializes");
         prop_assert_eq!(serde_json::from_str::<State>(&text).expect("reads back"), state);
     }

@@ -55,9 +55,9 @@ fn any_owner() -> impl Strategy<Value = (SceneId, Module, Geometry)> {
 fn any_input() -> impl Strategy<Value = Input> {
     prop_oneof![
         3 => (any_owner(), any_decision(), any::<bool>())
-            .prop_map(|((id, module, geometry), decision, requested)| Input::Register { id, module, decision, requested, geometry }),
+            .prop_map(|((id, module, geometry), decision, requested)| Input::Register { id, module, report: Report { decision, requested, geometry } }),
         4 => (any_owner(), any_phase(), any_decision(), any::<bool>())
-            .prop_map(|((id, module, geometry), phase, decision, requested)| Input::Update { id, module, phase, decision, requested, geometry }),
+            .prop_map(|((id, module, geometry), phase, decision, requested)| Input::Update { id, module, phase, report: Report { decision, requested, geometry } }),
         1 => any_owner().prop_map(|(id, module, _)| Input::Remove { id, module }),
         3 => proptest::collection::vec((any_id(), any_operator()).prop_map(|(id, decision)| Command { id, decision }), 0..6)
             .prop_map(|commands| Input::SetCommands { commands }),
@@ -106,9 +106,9 @@ fn any_crowd_input() -> impl Strategy<Value = Input> {
     ];
     prop_oneof![
         6 => (id.clone(), any_module(), any_decision(), geometry.clone())
-            .prop_map(|(id, module, decision, geometry)| Input::Register { id, module, decision, requested: false, geometry }),
+            .prop_map(|(id, module, decision, geometry)| Input::Register { id, module, report: Report::new(decision, geometry) }),
         4 => (id.clone(), any_module(), any_decision(), geometry)
-            .prop_map(|(id, module, decision, geometry)| Input::Update { id, module, phase: Phase::Running, decision, requested: false, geometry }),
+            .prop_map(|(id, module, decision, geometry)| Input::Update { id, module, phase: Phase::Running, report: Report::new(decision, geometry) }),
         1 => (id, any_module()).prop_map(|(id, module)| Input::Remove { id, module }),
         1 => (0..=20u64).prop_map(|elapsed_ms| Input::Tick { elapsed_ms }),
     ]
@@ -409,4 +409,44 @@ proptest! {
         let text = serde_json::to_string(&state).expect("serializes");
         prop_assert_eq!(serde_json::from_str::<State>(&text).expect("reads back"), state);
     }
+}
+
+/// An owner's report is written flat, beside the scene's identifier and module, as traces have
+/// always had it; a report that leaves out `requested` asks for nothing.
+#[test]
+fn an_owner_report_is_written_flat() {
+    let report = Report::new(Decision::Activate, Geometry::velocity(2.0)).requesting();
+    let update = Input::Update {
+        id: SceneId::from_u128(1),
+        module: Module::new(Behavior::LaneChange),
+        phase: Phase::Running,
+        report,
+    };
+    let value = serde_json::to_value(&update).expect("serializes");
+    let fields = value["Update"].as_object().expect("an object");
+    let mut names: Vec<&str> = fields.keys().map(String::as_str).collect();
+    names.sort_unstable();
+    assert_eq!(
+        names,
+        ["decision", "geometry", "id", "module", "phase", "requested"]
+    );
+    let mut without = value.clone();
+    without["Update"]
+        .as_object_mut()
+        .expect("an object")
+        .remove("requested");
+    let read: Input = serde_json::from_value(without).expect("reads without `requested`");
+    let Input::Update { report: read, .. } = read else {
+        panic!("read {read:?}")
+    };
+    assert_eq!(
+        read,
+        Report::new(Decision::Activate, Geometry::velocity(2.0))
+    );
+    let mut nested = value;
+    nested["Update"]["report"] = serde_json::json!({});
+    assert!(
+        serde_json::from_value::<Input>(nested).is_err(),
+        "a nested report is refused"
+    );
 }

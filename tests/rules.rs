@@ -211,9 +211,10 @@ fn coop_own_kind_1() {
         id: id(1),
         module: LANE_CHANGE,
         phase: Phase::Running,
-        decision: Decision::Activate,
-        requested: false,
-        geometry: Geometry::steering(Direction::Left, 1.0, 2.0),
+        report: Report::new(
+            Decision::Activate,
+            Geometry::steering(Direction::Left, 1.0, 2.0),
+        ),
     };
     let rejection = rejects(&mut state, input, Rule::OwnerKind);
     assert_eq!(

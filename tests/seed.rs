@@ -51,9 +51,7 @@ fn seed_sequence_11_steps() {
     let input = Input::Register {
         id: scene,
         module: LANE_CHANGE,
-        decision: Decision::Deactivate,
-        requested: false,
-        geometry,
+        report: Report::new(Decision::Deactivate, geometry),
     };
     fires(&mut state, input, Rule::RegisterNew);
     assert_eq!(state.policy(LANE_CHANGE), Some(Policy::Optional));
@@ -91,9 +89,7 @@ fn seed_sequence_11_steps() {
         id: scene,
         module: LANE_CHANGE,
         phase: Phase::WaitingForExecution,
-        decision: Decision::Deactivate,
-        requested: false,
-        geometry,
+        report: Report::new(Decision::Deactivate, geometry),
     };
     fires(&mut state, update, Rule::OwnerUpdate);
     // 10. The merged decision now follows the operator; 11. the vehicle changes lanes.

@@ -14,8 +14,8 @@ use std::collections::VecDeque;
 
 use cooperation::{
     merge, Behavior, Command, CooperationStatus, Decision, Direction, FactorKind, FactorLists,
-    Geometry, Input, Limits, Module, OperatorDecision, Phase, Policy, PolicySetting, SceneId,
-    Sequence, State, SteeringFactor, VelocityFactor,
+    Geometry, Input, Limits, Module, OperatorDecision, Phase, Policy, PolicySetting, Report,
+    SceneId, Sequence, State, SteeringFactor, VelocityFactor,
 };
 
 /// The modules the scenes are spread over, round robin: steering and velocity scenes, optional
@@ -88,9 +88,7 @@ pub fn register_input(
     Input::Register {
         id,
         module,
-        decision,
-        requested: false,
-        geometry,
+        report: Report::new(decision, geometry),
     }
 }
 
@@ -106,9 +104,7 @@ pub fn update_input(
         id,
         module,
         phase,
-        decision,
-        requested: false,
-        geometry,
+        report: Report::new(decision, geometry),
     }
 }
 

@@ -8,7 +8,7 @@
 //! `TableLayout::Colliding` answers every input the same and stays equal.
 #![no_main]
 
-use cooperation::{
+use cooperation::{Report, 
     Behavior, Command, Config, Decision, Direction, Geometry, Input, Module, OperatorDecision,
     Phase, Policy, PolicySetting, SceneId, Sequence, State, TableLayout,
 };
@@ -122,9 +122,11 @@ fn input(state: &State, bytes: &mut Bytes<'_>) -> Option<Input> {
         0 => Input::Register {
             id: id(state, a),
             module: module(state, b),
-            decision: decision(op >> 3),
-            requested: op & 0x80 != 0,
-            geometry: geometry(bytes.next()?),
+            report: Report {
+                decision: decision(op >> 3),
+                requested: op & 0x80 != 0,
+                geometry: geometry(bytes.next()?),
+            },
         },
         1 => {
             let id = id(state, a);
@@ -136,9 +138,11 @@ fn input(state: &State, bytes: &mut Bytes<'_>) -> Option<Input> {
                 id,
                 module,
                 phase: pick(&Phase::ALL, op >> 3).unwrap_or(Phase::Running),
-                decision: decision(op >> 6),
-                requested: op & 0x80 != 0,
-                geometry: geometry(bytes.next()?),
+                report: Report {
+                    decision: decision(op >> 6),
+                    requested: op & 0x80 != 0,
+                    geometry: geometry(bytes.next()?),
+                },
             }
         }
         2 => {

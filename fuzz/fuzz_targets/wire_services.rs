@@ -6,7 +6,7 @@
 #![no_main]
 
 use cooperation::wire::Service;
-use cooperation::{
+use cooperation::{Report, 
     Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, ResponseStatus, SceneId,
     State,
 };
@@ -32,13 +32,7 @@ fn start() -> State {
         unreachable!("a valid configuration")
     };
     for n in 1..=3u128 {
-        let register = Input::Register {
-            id: SceneId::from_u128(n),
-            module: if n % 2 == 0 { avoidance } else { lane_change },
-            decision: Decision::Activate,
-            requested: n == 3,
-            geometry: Geometry::velocity(n as f32),
-        };
+        let register = Input::Register { id: SceneId::from_u128(n), module: if n % 2 == 0 { avoidance } else { lane_change }, report: Report { decision: Decision::Activate, requested: n == 3, geometry: Geometry::velocity(n as f32) } };
         assert!(state.apply(&register).is_ok());
     }
     state

@@ -7,7 +7,7 @@ use core::fmt::Write as _;
 
 use cooperation::{
     merge, Behavior, Config, Decision, Geometry, Input, Module, OperatorDecision, Phase, Policy,
-    Rule, SceneId, State,
+    Report, Rule, SceneId, State,
 };
 
 const MODULE: Module = Module::new(Behavior::LaneChange);
@@ -21,9 +21,7 @@ fn scene_in(phase: Phase) -> Option<State> {
         .apply(&Input::Register {
             id: ID,
             module: MODULE,
-            decision: Decision::Activate,
-            requested: false,
-            geometry,
+            report: Report::new(Decision::Activate, geometry),
         })
         .ok()?;
     let path: &[Phase] = match phase {
@@ -37,9 +35,7 @@ fn scene_in(phase: Phase) -> Option<State> {
             id: ID,
             module: MODULE,
             phase: *step,
-            decision: Decision::Activate,
-            requested: false,
-            geometry,
+            report: Report::new(Decision::Activate, geometry),
         };
         state.apply(&update).ok()?;
     }
@@ -61,9 +57,7 @@ pub fn lifecycle() -> String {
                 id: ID,
                 module: MODULE,
                 phase: to,
-                decision: Decision::Activate,
-                requested: false,
-                geometry,
+                report: Report::new(Decision::Activate, geometry),
             };
             match state.clone().apply(&update).map(|t| t.rule) {
                 Ok(Rule::OwnerUpdate) => {

@@ -100,8 +100,8 @@ impl Fault {
             (Self::OwnerClearsOperator, Input::Update { id, .. }, Ok(t)) if t.rule == Rule::OwnerUpdate => {
                 edit_scene(core, *id, |scene| set(scene, "/operator_decision", json!(OperatorDecision::Undecided)))
             }
-            (Self::RejectionHalfApplies, Input::Update { id, decision, .. }, Err(Rejection::PhaseTransition { .. })) => {
-                edit_scene(core, *id, |scene| set(scene, "/module_decision", json!(decision)))
+            (Self::RejectionHalfApplies, Input::Update { id, report, .. }, Err(Rejection::PhaseTransition { .. })) => {
+                edit_scene(core, *id, |scene| set(scene, "/module_decision", json!(report.decision)))
             }
             (Self::BatchNotAtomic, Input::SetCommands { commands }, Err(Rejection::Commands { outcomes, .. })) => {
                 let valid = commands.iter().zip(outcomes).filter(|(_, o)| **o == CommandOutcome::Withheld);
@@ -120,12 +120,12 @@ impl Fault {
             }
             (
                 Self::TerminalLeaves,
-                Input::Update { id, phase, decision, geometry, .. },
+                Input::Update { id, phase, report, .. },
                 Err(Rejection::OwnerRetired { retirement, .. }),
             ) if !phase.is_terminal() => unretire(core, *id).and_then(|mut next| {
                 let scene = json!({
-                    "module": retirement.module, "phase": phase, "module_decision": decision,
-                    "operator_decision": OperatorDecision::Undecided, "requested": false, "age_ms": 0, "geometry": geometry,
+                    "module": retirement.module, "phase": phase, "module_decision": report.decision,
+                    "operator_decision": OperatorDecision::Undecided, "requested": false, "age_ms": 0, "geometry": report.geometry,
                 });
                 let id = json!(id);
                 next = edit(&next, |raw| push(raw, "/scenes", json!([id, scene])))?;

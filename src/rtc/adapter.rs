@@ -4,8 +4,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::{
-    Decision, Distance, Geometry, Input, Module, OperatorDecision, Phase, Policy, PolicySetting,
-    Scene, SceneId, Transition,
+    Decision, Distance, Input, Module, OperatorDecision, Policy, PolicySetting, Scene, SceneId,
+    Transition,
 };
 
 use super::binding::distances;
@@ -292,42 +292,6 @@ fn prune(routes: &mut BTreeMap<SceneId, usize>, state: &crate::State) {
         .saturating_add(state.limits().retired_capacity);
     if routes.len() > remembered {
         routes.retain(|id, _| state.scene(*id).is_some() || state.retirement(*id).is_some());
-    }
-}
-
-/// The core's `Register` for an RTC status report.
-fn register_input(
-    id: SceneId,
-    module: Module,
-    decision: Decision,
-    requested: bool,
-    geometry: Geometry,
-) -> Input {
-    Input::Register {
-        id,
-        module,
-        decision,
-        requested,
-        geometry,
-    }
-}
-
-/// The core's `Update` for an RTC status report.
-fn update_input(
-    id: SceneId,
-    module: Module,
-    phase: Phase,
-    decision: Decision,
-    requested: bool,
-    geometry: Geometry,
-) -> Input {
-    Input::Update {
-        id,
-        module,
-        phase,
-        decision,
-        requested,
-        geometry,
     }
 }
 

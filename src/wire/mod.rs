@@ -46,7 +46,7 @@
 //! let mut state = State::new(Config::new([(lane_change, Policy::Required)]))?;
 //! let id = SceneId::from_u128(0x0001_0203_0405_0607_0809_0a0b_0c0d_0e0f);
 //! let geometry = Geometry::steering(Direction::Left, 20.0, 60.0);
-//! state.apply(&Input::Register { id, module: lane_change, decision: Decision::Activate, requested: false, geometry })?;
+//! state.apply(&Input::Register { id, module: lane_change, report: Report::new(Decision::Activate, geometry) })?;
 //!
 //! // The operator activates the scene, naming it by its UUID (here in rosbridge's base64 form).
 //! let request = br#"{"commands": [

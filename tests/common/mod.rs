@@ -40,9 +40,7 @@ pub fn register(id: SceneId, module: Module, decision: Decision) -> Input {
     Input::Register {
         id,
         module,
-        decision,
-        requested: false,
-        geometry: Geometry::velocity(10.0),
+        report: Report::new(decision, Geometry::velocity(10.0)),
     }
 }
 
@@ -81,9 +79,11 @@ pub fn update_with(
         id,
         module,
         phase,
-        decision,
-        requested,
-        geometry,
+        report: Report {
+            decision,
+            requested,
+            geometry,
+        },
     }
 }
 

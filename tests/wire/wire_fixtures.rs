@@ -37,9 +37,7 @@ pub fn register(
     let input = Input::Register {
         id,
         module,
-        decision,
-        requested: false,
-        geometry,
+        report: Report::new(decision, geometry),
     };
     state
         .apply(&input)
@@ -53,9 +51,7 @@ pub fn update(state: &mut State, id: SceneId, phase: Phase) {
         id,
         module: scene.module(),
         phase,
-        decision: scene.module_decision(),
-        requested: false,
-        geometry: *scene.geometry(),
+        report: Report::new(scene.module_decision(), *scene.geometry()),
     };
     state
         .apply(&input)

@@ -53,9 +53,7 @@ fn register(id: SceneId, decision: Decision, geometry: Geometry) -> Input {
     Input::Register {
         id,
         module: LANE_CHANGE,
-        decision,
-        requested: false,
-        geometry,
+        report: Report::new(decision, geometry),
     }
 }
 
@@ -64,9 +62,7 @@ fn update(id: SceneId, phase: Phase, decision: Decision, geometry: Geometry) -> 
         id,
         module: LANE_CHANGE,
         phase,
-        decision,
-        requested: false,
-        geometry,
+        report: Report::new(decision, geometry),
     }
 }
 

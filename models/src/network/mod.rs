@@ -18,7 +18,7 @@ pub use views::Views;
 
 use cooperation::{
     Behavior, Command, Config, CooperationStatus, Decision, Geometry, Input, Limits, Module,
-    OperatorDecision, Phase, Policy, Rejection, Rule, SceneId, State, Transition,
+    OperatorDecision, Phase, Policy, Rejection, Report, Rule, SceneId, State, Transition,
 };
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property, Representative};
@@ -543,18 +543,14 @@ fn owner_inputs(ids: &[SceneId], views: Views) -> Vec<Input> {
         owner.push(Input::Register {
             id,
             module: MODULE,
-            decision: Decision::Deactivate,
-            requested: false,
-            geometry,
+            report: Report::new(Decision::Deactivate, geometry),
         });
         for &(phase, decision) in &updates {
             owner.push(Input::Update {
                 id,
                 module: MODULE,
                 phase,
-                decision,
-                requested: false,
-                geometry,
+                report: Report::new(decision, geometry),
             });
         }
     }

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use cooperation::rtc::Rtc;
 use cooperation::{
-    Command, Decision, Input, Module, OperatorDecision, Rejection, Rule, SceneId, State,
+    Command, Decision, Input, Module, OperatorDecision, Rejection, Report, Rule, SceneId, State,
 };
 use serde::{Deserialize, Serialize};
 
@@ -132,13 +132,15 @@ fn half_apply(core: &mut State, id: SceneId, safe: bool, requested: bool) {
         id,
         module: scene.module(),
         phase: scene.phase(),
-        decision: if safe {
-            Decision::Activate
-        } else {
-            Decision::Deactivate
+        report: Report {
+            decision: if safe {
+                Decision::Activate
+            } else {
+                Decision::Deactivate
+            },
+            requested,
+            geometry: *scene.geometry(),
         },
-        requested,
-        geometry: *scene.geometry(),
     };
     let _ = core.apply(&update);
 }

@@ -2,7 +2,7 @@
 
 use cooperation::{
     Command, Config, Decision, Geometry, Input, Module, OperatorDecision, Phase, Policy,
-    PolicySetting, SceneId,
+    PolicySetting, Report, SceneId,
 };
 
 use super::STRANGER;
@@ -22,9 +22,7 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
                 inputs.push(Input::Register {
                     id,
                     module,
-                    decision,
-                    requested: false,
-                    geometry: velocity,
+                    report: Report::new(decision, velocity),
                 });
             }
         }
@@ -34,18 +32,14 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
             inputs.push(Input::Register {
                 id,
                 module,
-                decision: Decision::Activate,
-                requested: true,
-                geometry: velocity,
+                report: Report::new(Decision::Activate, velocity).requesting(),
             });
             for phase in [Phase::WaitingForExecution, Phase::Running] {
                 inputs.push(Input::Update {
                     id,
                     module,
                     phase,
-                    decision: Decision::Activate,
-                    requested: true,
-                    geometry: velocity,
+                    report: Report::new(Decision::Activate, velocity).requesting(),
                 });
             }
         }
@@ -56,9 +50,7 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
                         id,
                         module,
                         phase,
-                        decision,
-                        requested: false,
-                        geometry: velocity,
+                        report: Report::new(decision, velocity),
                     });
                 }
             }
@@ -69,9 +61,7 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
             id,
             module: first,
             phase: Phase::Running,
-            decision: Decision::Activate,
-            requested: false,
-            geometry: steering,
+            report: Report::new(Decision::Activate, steering),
         });
         for decision in OperatorDecision::ALL {
             inputs.push(Input::SetCommands {

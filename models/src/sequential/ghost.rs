@@ -173,13 +173,13 @@ pub(super) fn against_spec(
         id,
         module,
         phase,
-        geometry,
-        ..
+        report,
     } = input
     {
         let scene = from.core.scene(*id);
-        let applies =
-            scene.is_some_and(|s| s.module() == *module && s.geometry().kind() == geometry.kind());
+        let applies = scene.is_some_and(|s| {
+            s.module() == *module && s.geometry().kind() == report.geometry.kind()
+        });
         if let (true, Some(scene)) = (applies, scene) {
             let allowed = tables.lifecycle.allows(scene.phase(), *phase);
             let moved = matches!(

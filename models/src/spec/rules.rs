@@ -9,8 +9,8 @@
 
 use cooperation::{
     Command, CommandFailure, CommandOutcome, Decision, FactorKind, Geometry, Input, Limits, Module,
-    OperatorDecision, Phase, Policy, PolicySetting, Rejection, RetireReason, Retirement, Rule,
-    Scene, SceneId, State,
+    OperatorDecision, Phase, Policy, PolicySetting, Rejection, Report, RetireReason, Retirement,
+    Rule, Scene, SceneId, State,
 };
 
 use super::LifecycleTable;
@@ -171,25 +171,15 @@ fn decide(
     input: &Input,
 ) -> Result<Verdict, Refusal> {
     match input {
-        Input::Register {
-            id,
-            module,
-            decision,
-            requested,
-            geometry,
-        } => register(before, *id, *module, *decision, *requested, geometry),
+        Input::Register { id, module, report } => register(before, *id, *module, report),
         Input::Update {
             id,
             module,
             phase,
-            decision,
-            requested,
-            geometry,
+            report,
         } => {
             owned(before, *id, *module)?;
-            update(
-                lifecycle, before, *id, *phase, *decision, *requested, geometry,
-            )
+            update(lifecycle, before, *id, *phase, report)
         }
         Input::Remove { id, module } => {
             owned(before, *id, *module)?;
@@ -214,9 +204,7 @@ fn register(
     before: &Snapshot,
     id: SceneId,
     module: Module,
-    decision: Decision,
-    requested: bool,
-    geometry: &Geometry,
+    report: &Report,
 ) -> Result<Verdict, Refusal> {
     if let Some(retirement) = before.retirement(id) {
         return Err((Rule::RegisterRetired, Rejection::Revival { id, retirement }));
@@ -242,11 +230,11 @@ fn register(
     let scene = SceneRecord {
         module,
         phase: Phase::WaitingForExecution,
-        module_decision: decision,
+        module_decision: report.decision,
         operator_decision: OperatorDecision::Undecided,
-        requested,
+        requested: report.requested,
         age_ms: 0,
-        geometry: *geometry,
+        geometry: report.geometry,
     };
     let at = after.scenes.partition_point(|(live, _)| *live < id);
     after.scenes.insert(at, (id, scene));
@@ -277,9 +265,7 @@ fn update(
     before: &Snapshot,
     id: SceneId,
     phase: Phase,
-    decision: Decision,
-    requested: bool,
-    geometry: &Geometry,
+    report: &Report,
 ) -> Result<Verdict, Refusal> {
     let Some(scene) = before.scene(id) else {
         return Err((Rule::OwnerUnknown, Rejection::OwnerUnknown { id }));
@@ -288,11 +274,11 @@ fn update(
         Geometry::Velocity { .. } => FactorKind::Velocity,
         Geometry::Steering { .. } => FactorKind::Steering,
     };
-    if kind(&scene.geometry) != kind(geometry) {
+    if kind(&scene.geometry) != kind(&report.geometry) {
         let rejection = Rejection::KindMismatch {
             id,
             registered: kind(&scene.geometry),
-            given: kind(geometry),
+            given: kind(&report.geometry),
         };
         return Err((Rule::OwnerKind, rejection));
     }
@@ -316,9 +302,9 @@ fn update(
     }
     if let Some(scene) = after.scene_mut(id) {
         scene.phase = phase;
-        scene.module_decision = decision;
-        scene.requested = requested;
-        scene.geometry = *geometry;
+        scene.module_decision = report.decision;
+        scene.requested = report.requested;
+        scene.geometry = report.geometry;
         scene.age_ms = 0;
     }
     fires(Rule::OwnerUpdate, after, Vec::new())

@@ -8,11 +8,10 @@ use crate::rtc::{
     AutoModeRequest, AutoModeResponse, AutoModeStatus, Binding, CooperateCommandsRequest,
     CooperateCommandsResponse, CooperateStatusArray, FieldError, RtcError, Time,
 };
-use crate::{Decision, Input, Phase, RetireReason, Scene, SceneId, Transition};
+use crate::{Decision, Input, Phase, Report, RetireReason, Scene, SceneId, Transition};
 
 use super::{
-    apply_commands, auto_mode, auto_mode_status, cooperate_status, prune, register_input,
-    set_auto_mode, update_input, Reply,
+    apply_commands, auto_mode, auto_mode_status, cooperate_status, prune, set_auto_mode, Reply,
 };
 
 /// One RTC interface, for queries. Made by [`Rtc::view`](super::Rtc::view).
@@ -192,22 +191,30 @@ impl Interface<'_> {
         } else {
             Decision::Deactivate
         };
-        let geometry = self.binding.geometry(start_distance, finish_distance);
+        let report = Report {
+            decision,
+            requested,
+            geometry: self.binding.geometry(start_distance, finish_distance),
+        };
         let module = self.binding.module;
+        let update = Input::Update {
+            id,
+            module,
+            phase,
+            report,
+        };
         if self.state.scene(id).is_some() {
             self.view().check_owned(id)?;
-            let update = update_input(id, module, phase, decision, requested, geometry);
             return Ok(vec![self.state.apply(&update)?]);
         }
         // [COOP-DEV-IMPLICIT-REGISTER.1] [COOP-DEV-REGISTER-PHASE.1]
-        let register = register_input(id, module, decision, requested, geometry);
+        let register = Input::Register { id, module, report };
         let transitions = if phase == Phase::WaitingForExecution {
             vec![self.state.apply(&register)?]
         } else {
             // Both inputs on a copy, so that a refused second one leaves nothing behind.
             let mut next = self.state.clone();
             let first = next.apply(&register)?;
-            let update = update_input(id, module, phase, decision, requested, geometry);
             let second = next
                 .apply(&update)
                 .map_err(|rejection| RtcError::InitialPhase {
