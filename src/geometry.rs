@@ -13,7 +13,10 @@ mod exact;
 ///
 /// With the `serde` feature its coordinates are written as [`Distance`] says, exactly for
 /// every bit pattern (`"NaN:0x"` and 16 hexadecimal digits for a NaN).
-#[derive(Clone, Copy, Debug, Default)]
+///
+/// The default pose is [`Pose::IDENTITY`]: at the origin, facing along `x`, with the unit
+/// quaternion `w = 1` (an all-zero quaternion is no rotation at all).
+#[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Pose {
@@ -26,10 +29,23 @@ pub struct Pose {
 }
 
 impl Pose {
+    /// At the origin, with the identity orientation (`x = y = z = 0`, `w = 1`).
+    pub const IDENTITY: Self = Self {
+        position: [0.0; 3],
+        orientation: [0.0, 0.0, 0.0, 1.0],
+    };
+
     fn bits(&self) -> [u64; 7] {
         let [x, y, z] = self.position;
         let [qx, qy, qz, qw] = self.orientation;
         [x, y, z, qx, qy, qz, qw].map(f64::to_bits)
+    }
+}
+
+impl Default for Pose {
+    /// [`Pose::IDENTITY`].
+    fn default() -> Self {
+        Self::IDENTITY
     }
 }
 
@@ -234,21 +250,22 @@ pub enum Geometry {
 }
 
 impl Geometry {
-    /// A velocity geometry at the origin with the given distance.
+    /// A velocity geometry at [`Pose::IDENTITY`] with the given distance.
     #[must_use]
     pub fn velocity(distance: f32) -> Self {
         Self::Velocity {
-            pose: Pose::default(),
+            pose: Pose::IDENTITY,
             distance: Distance(distance),
             status: VelocityStatus::Approaching,
         }
     }
 
-    /// A steering geometry at the origin starting and ending at the given distances.
+    /// A steering geometry, both poses [`Pose::IDENTITY`], starting and ending at the given
+    /// distances.
     #[must_use]
     pub fn steering(direction: Direction, start: f32, end: f32) -> Self {
         Self::Steering {
-            poses: [Pose::default(); 2],
+            poses: [Pose::IDENTITY; 2],
             distances: [Distance(start), Distance(end)],
             direction,
             status: SteeringStatus::Approaching,
@@ -302,7 +319,19 @@ mod tests {
         assert_eq!(Distance(f32::NAN), Distance(f32::NAN));
         let mut pose = Pose::default();
         assert_eq!(pose, Pose::default());
-        pose.orientation[3] = 1.0;
+        pose.position[0] = -0.0;
         assert_ne!(pose, Pose::default());
+    }
+
+    /// A pose nobody set faces along `x`: its quaternion is the unit one, so a factor published
+    /// from it carries `w = 1`.
+    #[test]
+    fn the_default_pose_is_the_identity() {
+        assert_eq!(Pose::default().orientation, [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(Pose::default().position, [0.0; 3]);
+        let Geometry::Steering { poses, .. } = Geometry::steering(Direction::Left, 1.0, 2.0) else {
+            panic!("a steering geometry")
+        };
+        assert_eq!(poses, [Pose::IDENTITY; 2]);
     }
 }

@@ -180,17 +180,17 @@ impl Binding {
             .collect()
     }
 
-    /// The core geometry for a status's distances: no poses (RTC has none), status unknown
+    /// The core geometry for a status's distances: identity poses (RTC has none), status unknown
     /// (RTC does not say whether the vehicle has stopped or is turning).
     pub(crate) fn geometry(&self, start_distance: f32, finish_distance: f32) -> Geometry {
         match self.kind {
             Kind::Velocity => Geometry::Velocity {
-                pose: Pose::default(),
+                pose: Pose::IDENTITY,
                 distance: Distance(start_distance),
                 status: VelocityStatus::Unknown,
             },
             Kind::Steering(direction) => Geometry::Steering {
-                poses: [Pose::default(); 2],
+                poses: [Pose::IDENTITY; 2],
                 distances: [Distance(start_distance), Distance(finish_distance)],
                 direction,
                 status: SteeringStatus::Unknown,

@@ -247,6 +247,11 @@ fn factor_streams_carry_the_cores_factors_in_the_map_frame() {
         }
     );
     assert_eq!(first.pose.orientation.w, 0.8);
+    // A pose nobody set is published with the identity orientation, as rosbridge reads a
+    // missing one.
+    let unset = &velocity.factors[2].pose;
+    assert_eq!(unset.orientation, wire::Quaternion::default());
+    assert_eq!(unset.orientation.w, 1.0);
     assert_eq!(first.behavior, wire::PlanningBehavior::LANE_CHANGE);
     assert_eq!(first.sequence, "");
     assert_eq!(first.detail, "");
