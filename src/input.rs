@@ -1,6 +1,6 @@
 //! The input alphabet: everything that can change the state, and who sends it.
 
-use crate::{Decision, Geometry, Module, OperatorDecision, Phase, Policy, SceneId};
+use crate::{Decision, Detail, Geometry, Module, OperatorDecision, Phase, Policy, SceneId};
 
 #[cfg(feature = "serde")]
 mod form;
@@ -66,13 +66,16 @@ pub enum Input {
 /// [`Input::Register`] and [`Input::Update`] share.
 ///
 /// ```
-/// use cooperation::{Decision, Geometry, Report};
+/// use cooperation::{Decision, Detail, Geometry, Report};
 ///
 /// let report = Report::new(Decision::Deactivate, Geometry::velocity(12.0));
 /// assert!(!report.requested);
-/// assert!(report.requesting().requested);
+/// assert!(report.detail.is_empty());
+/// let asking = report.requesting().with_detail(Detail::new("a parked truck"));
+/// assert!(asking.requested);
+/// assert_eq!(asking.detail.as_str(), "a parked truck");
 /// ```
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
 pub struct Report {
     /// The module's decision.
     pub decision: Decision,
@@ -81,6 +84,9 @@ pub struct Report {
     pub requested: bool,
     /// Where the scene is.
     pub geometry: Geometry,
+    /// Free text for the operator, carried to the scene's factor (AD API `detail`). Absent in
+    /// a serialised input means empty.
+    pub detail: Detail,
 }
 
 impl Report {
@@ -91,16 +97,23 @@ impl Report {
             decision,
             requested: false,
             geometry,
+            detail: Detail::EMPTY,
         }
     }
 
     /// This report, asking for an operator decision (`[COOP-REQUESTED.1]`).
     #[must_use]
-    pub const fn requesting(self) -> Self {
+    pub fn requesting(self) -> Self {
         Self {
             requested: true,
             ..self
         }
+    }
+
+    /// This report, with `detail` for the operator.
+    #[must_use]
+    pub fn with_detail(self, detail: Detail) -> Self {
+        Self { detail, ..self }
     }
 }
 

@@ -50,6 +50,7 @@
 )]
 
 mod decision;
+mod detail;
 mod geometry;
 mod id;
 mod input;
@@ -68,6 +69,7 @@ mod table;
 pub mod wire;
 
 pub use decision::{merge, Decision, OperatorDecision, Policy};
+pub use detail::Detail;
 pub use geometry::{
     Direction, Distance, FactorKind, Geometry, Pose, SteeringStatus, VelocityStatus,
 };

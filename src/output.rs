@@ -2,7 +2,7 @@
 //! responses.
 
 use crate::{
-    Behavior, Command, CommandOutcome, Decision, Direction, Distance, Geometry, Input,
+    Behavior, Command, CommandOutcome, Decision, Detail, Direction, Distance, Geometry, Input,
     OperatorDecision, PolicySetting, Pose, Rejection, Scene, SceneId, Sequence, State,
     SteeringStatus, Transition, VelocityStatus,
 };
@@ -35,7 +35,7 @@ impl CooperationStatus {
 }
 
 /// A velocity scene as a factor (AD API `VelocityFactor`).
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct VelocityFactor {
@@ -49,12 +49,14 @@ pub struct VelocityFactor {
     pub behavior: Behavior,
     /// The module's sequence.
     pub sequence: Sequence,
+    /// The owner's text for the operator.
+    pub detail: Detail,
     /// The scene's cooperation status.
     pub cooperation: CooperationStatus,
 }
 
 /// A steering scene as a factor (AD API `SteeringFactor`).
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct SteeringFactor {
@@ -70,6 +72,8 @@ pub struct SteeringFactor {
     pub behavior: Behavior,
     /// The module's sequence.
     pub sequence: Sequence,
+    /// The owner's text for the operator.
+    pub detail: Detail,
     /// The scene's cooperation status.
     pub cooperation: CooperationStatus,
 }
@@ -89,6 +93,7 @@ impl VelocityFactor {
                 status,
                 behavior: scene.module().behavior,
                 sequence: scene.module().sequence,
+                detail: scene.detail().clone(),
                 cooperation: CooperationStatus::of(id, scene),
             }),
             Geometry::Steering { .. } => None,
@@ -113,6 +118,7 @@ impl SteeringFactor {
                 status,
                 behavior: scene.module().behavior,
                 sequence: scene.module().sequence,
+                detail: scene.detail().clone(),
                 cooperation: CooperationStatus::of(id, scene),
             }),
             Geometry::Velocity { .. } => None,

@@ -215,6 +215,7 @@ impl State {
                     requested: report.requested,
                     age_ms: 0,
                     geometry: report.geometry,
+                    detail: report.detail.clone(),
                 };
                 self.scenes.insert(id, scene);
                 Transition::by(Rule::RegisterNew)
@@ -225,6 +226,7 @@ impl State {
                     scene.module_decision = report.decision;
                     scene.requested = report.requested;
                     scene.geometry = report.geometry;
+                    scene.detail.clone_from(&report.detail);
                     scene.age_ms = 0;
                 }
                 Transition::by(Rule::OwnerUpdate)

@@ -13,9 +13,9 @@
 use std::collections::VecDeque;
 
 use cooperation::{
-    merge, Behavior, Command, CooperationStatus, Decision, Direction, FactorKind, FactorLists,
-    Geometry, Input, Limits, Module, OperatorDecision, Phase, Policy, PolicySetting, Report,
-    SceneId, Sequence, State, SteeringFactor, VelocityFactor,
+    merge, Behavior, Command, CooperationStatus, Decision, Detail, Direction, FactorKind,
+    FactorLists, Geometry, Input, Limits, Module, OperatorDecision, Phase, Policy, PolicySetting,
+    Report, SceneId, Sequence, State, SteeringFactor, VelocityFactor,
 };
 
 /// The modules the scenes are spread over, round robin: steering and velocity scenes, optional
@@ -534,6 +534,8 @@ impl LinearRegistry {
                     status,
                     behavior,
                     sequence,
+                    // The workload's owners report no detail.
+                    detail: Detail::EMPTY,
                     cooperation,
                 }),
                 Geometry::Steering {
@@ -548,6 +550,8 @@ impl LinearRegistry {
                     status,
                     behavior,
                     sequence,
+                    // The workload's owners report no detail.
+                    detail: Detail::EMPTY,
                     cooperation,
                 }),
             }

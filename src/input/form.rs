@@ -2,10 +2,11 @@
 //! the scene's identifier and module, as it was before the report had a type of its own.
 //!
 //! Serde cannot flatten a struct into a variant that refuses unknown fields, so the form is
-//! this enum, converted both ways without loss.
+//! this enum, converted both ways without loss. An empty `detail` is left out, so traces
+//! written before reports had one read and write as they did.
 
 use super::{Command, PolicySetting, Report};
-use crate::{Decision, Geometry, Module, Phase, SceneId};
+use crate::{Decision, Detail, Geometry, Module, Phase, SceneId};
 
 /// [`super::Input`] with each report's fields spelled out. Named `Input` so that serde's
 /// messages name the type a reader knows.
@@ -19,6 +20,8 @@ pub(super) enum Input {
         #[serde(default)]
         requested: bool,
         geometry: Geometry,
+        #[serde(default, skip_serializing_if = "Detail::is_empty")]
+        detail: Detail,
     },
     Update {
         id: SceneId,
@@ -28,6 +31,8 @@ pub(super) enum Input {
         #[serde(default)]
         requested: bool,
         geometry: Geometry,
+        #[serde(default, skip_serializing_if = "Detail::is_empty")]
+        detail: Detail,
     },
     Remove {
         id: SceneId,
@@ -53,6 +58,7 @@ impl From<Input> for super::Input {
                 decision,
                 requested,
                 geometry,
+                detail,
             } => Self::Register {
                 id,
                 module,
@@ -60,6 +66,7 @@ impl From<Input> for super::Input {
                     decision,
                     requested,
                     geometry,
+                    detail,
                 },
             },
             Input::Update {
@@ -69,6 +76,7 @@ impl From<Input> for super::Input {
                 decision,
                 requested,
                 geometry,
+                detail,
             } => Self::Update {
                 id,
                 module,
@@ -77,6 +85,7 @@ impl From<Input> for super::Input {
                     decision,
                     requested,
                     geometry,
+                    detail,
                 },
             },
             Input::Remove { id, module } => Self::Remove { id, module },
@@ -96,6 +105,7 @@ impl From<super::Input> for Input {
                 decision: report.decision,
                 requested: report.requested,
                 geometry: report.geometry,
+                detail: report.detail,
             },
             super::Input::Update {
                 id,
@@ -109,6 +119,7 @@ impl From<super::Input> for Input {
                 decision: report.decision,
                 requested: report.requested,
                 geometry: report.geometry,
+                detail: report.detail,
             },
             super::Input::Remove { id, module } => Self::Remove { id, module },
             super::Input::SetCommands { commands } => Self::SetCommands { commands },

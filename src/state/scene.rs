@@ -1,6 +1,6 @@
 //! A live scene: what the rules read and write.
 
-use crate::{merge, Decision, Geometry, Module, OperatorDecision, Phase, Policy};
+use crate::{merge, Decision, Detail, Geometry, Module, OperatorDecision, Phase, Policy};
 
 /// A live scene: what the rules read and write.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
@@ -14,6 +14,12 @@ pub struct Scene {
     pub(super) requested: bool,
     pub(super) age_ms: u64,
     pub(super) geometry: Geometry,
+    /// Absent in a serialised state means empty.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Detail::is_empty")
+    )]
+    pub(super) detail: Detail,
 }
 
 impl Scene {
@@ -69,6 +75,12 @@ impl Scene {
     #[must_use]
     pub const fn geometry(&self) -> &Geometry {
         &self.geometry
+    }
+
+    /// The owner's text for the operator, as last reported; its factor carries it.
+    #[must_use]
+    pub const fn detail(&self) -> &Detail {
+        &self.detail
     }
 
     /// Whether operator commands are accepted (`[COOP-CANCELLABLE.1]`).

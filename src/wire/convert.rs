@@ -5,7 +5,7 @@
 //! a conversion always succeeds.
 
 use crate::{
-    Behavior, Command, Decision, Direction, Distance, Module, OperatorDecision, Policy,
+    Behavior, Command, Decision, Detail, Direction, Distance, Module, OperatorDecision, Policy,
     PolicySetting, SceneId, Sequence, SteeringStatus, VelocityStatus,
 };
 
@@ -398,8 +398,8 @@ const fn direction_constant(direction: Direction) -> u16 {
 impl TryFrom<&VelocityFactor> for crate::VelocityFactor {
     type Error = Malformed;
 
-    /// The factor of a cooperating scene. Its `detail` text has no place in the core and is
-    /// dropped. Distances are taken as they are, NaN included: the core orders them totally.
+    /// The factor of a cooperating scene, `detail` included. Distances are taken as they are,
+    /// NaN included: the core orders them totally.
     fn try_from(factor: &VelocityFactor) -> Result<Self, Malformed> {
         let status = constant(
             factor.status,
@@ -414,6 +414,7 @@ impl TryFrom<&VelocityFactor> for crate::VelocityFactor {
             status,
             behavior: module.behavior,
             sequence: module.sequence,
+            detail: Detail::new(&factor.detail),
             cooperation: cooperation(&factor.cooperation)?,
         })
     }
@@ -427,7 +428,7 @@ impl From<crate::VelocityFactor> for VelocityFactor {
             status: velocity_status_constant(factor.status),
             behavior: factor.behavior.as_str().to_owned(),
             sequence: factor.sequence.as_str().to_owned(),
-            detail: String::new(),
+            detail: factor.detail.as_str().to_owned(),
             cooperation: vec![factor.cooperation.into()],
         }
     }
@@ -436,8 +437,8 @@ impl From<crate::VelocityFactor> for VelocityFactor {
 impl TryFrom<&SteeringFactor> for crate::SteeringFactor {
     type Error = Malformed;
 
-    /// The factor of a cooperating scene. Its `detail` text has no place in the core and is
-    /// dropped. Distances are taken as they are, NaN included: the core orders them totally.
+    /// The factor of a cooperating scene, `detail` included. Distances are taken as they are,
+    /// NaN included: the core orders them totally.
     fn try_from(factor: &SteeringFactor) -> Result<Self, Malformed> {
         let direction = constant(
             factor.direction,
@@ -459,6 +460,7 @@ impl TryFrom<&SteeringFactor> for crate::SteeringFactor {
             status,
             behavior: module.behavior,
             sequence: module.sequence,
+            detail: Detail::new(&factor.detail),
             cooperation: cooperation(&factor.cooperation)?,
         })
     }
@@ -473,7 +475,7 @@ impl From<crate::SteeringFactor> for SteeringFactor {
             status: steering_status_constant(factor.status),
             behavior: factor.behavior.as_str().to_owned(),
             sequence: factor.sequence.as_str().to_owned(),
-            detail: String::new(),
+            detail: factor.detail.as_str().to_owned(),
             cooperation: vec![factor.cooperation.into()],
         }
     }

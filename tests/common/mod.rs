@@ -80,9 +80,8 @@ pub fn update_with(
         module,
         phase,
         report: Report {
-            decision,
             requested,
-            geometry,
+            ..Report::new(decision, geometry)
         },
     }
 }

@@ -253,16 +253,33 @@ pub(crate) fn core_velocity_factor() -> impl Strategy<Value = VelocityFactor> {
         Just(VelocityStatus::Approaching),
         Just(VelocityStatus::Stopped)
     ];
-    (core_pose(), any_distance(), status, module(), core_status()).prop_map(
-        |(pose, distance, status, module, cooperation)| VelocityFactor {
-            pose,
-            distance,
-            status,
-            behavior: module.behavior,
-            sequence: module.sequence,
-            cooperation,
-        },
+    (
+        core_pose(),
+        any_distance(),
+        status,
+        module(),
+        detail(),
+        core_status(),
     )
+        .prop_map(
+            |(pose, distance, status, module, detail, cooperation)| VelocityFactor {
+                pose,
+                distance,
+                status,
+                behavior: module.behavior,
+                sequence: module.sequence,
+                detail,
+                cooperation,
+            },
+        )
+}
+
+/// A factor's detail: none, or any text (any characters, control ones included).
+pub(crate) fn detail() -> impl Strategy<Value = Detail> {
+    prop_oneof![
+        Just(Detail::EMPTY),
+        ".{0,24}".prop_map(|text| Detail::new(&text))
+    ]
 }
 
 pub(crate) fn core_steering_factor() -> impl Strategy<Value = SteeringFactor> {
@@ -283,16 +300,17 @@ pub(crate) fn core_steering_factor() -> impl Strategy<Value = SteeringFactor> {
         direction,
         status,
         module(),
-        core_status(),
+        (detail(), core_status()),
     )
         .prop_map(
-            |(poses, distances, direction, status, module, cooperation)| SteeringFactor {
+            |(poses, distances, direction, status, module, (detail, cooperation))| SteeringFactor {
                 poses,
                 distances,
                 direction,
                 status,
                 behavior: module.behavior,
                 sequence: module.sequence,
+                detail,
                 cooperation,
             },
         )

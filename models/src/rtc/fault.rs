@@ -133,13 +133,15 @@ fn half_apply(core: &mut State, id: SceneId, safe: bool, requested: bool) {
         module: scene.module(),
         phase: scene.phase(),
         report: Report {
-            decision: if safe {
-                Decision::Activate
-            } else {
-                Decision::Deactivate
-            },
             requested,
-            geometry: *scene.geometry(),
+            ..Report::new(
+                if safe {
+                    Decision::Activate
+                } else {
+                    Decision::Deactivate
+                },
+                *scene.geometry(),
+            )
         },
     };
     let _ = core.apply(&update);

@@ -8,15 +8,15 @@
 //! `State::apply`, and the properties ask whether what `apply` did is what this says.
 
 use cooperation::{
-    Command, CommandFailure, CommandOutcome, Decision, FactorKind, Geometry, Input, Limits, Module,
-    OperatorDecision, Phase, Policy, PolicySetting, Rejection, Report, RetireReason, Retirement,
-    Rule, Scene, SceneId, State,
+    Command, CommandFailure, CommandOutcome, Decision, Detail, FactorKind, Geometry, Input, Limits,
+    Module, OperatorDecision, Phase, Policy, PolicySetting, Rejection, Report, RetireReason,
+    Retirement, Rule, Scene, SceneId, State,
 };
 
 use super::LifecycleTable;
 
 /// A live scene as spec §3 lists its variables.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SceneRecord {
     /// Its module, fixed.
     pub module: Module,
@@ -32,6 +32,8 @@ pub struct SceneRecord {
     pub age_ms: u64,
     /// Its geometry.
     pub geometry: Geometry,
+    /// Its detail.
+    pub detail: Detail,
 }
 
 /// The whole state as spec §3 lists its variables.
@@ -72,7 +74,7 @@ impl Snapshot {
             && state
                 .scenes()
                 .map(|(id, s)| (id, record(s)))
-                .eq(self.scenes.iter().copied())
+                .eq(self.scenes.iter().cloned())
             && state
                 .retired_oldest_first()
                 .eq(self.retired.iter().copied())
@@ -133,6 +135,7 @@ fn record(scene: &Scene) -> SceneRecord {
         requested: scene.is_requested(),
         age_ms: scene.age_ms(),
         geometry: *scene.geometry(),
+        detail: scene.detail().clone(),
     }
 }
 
@@ -235,6 +238,7 @@ fn register(
         requested: report.requested,
         age_ms: 0,
         geometry: report.geometry,
+        detail: report.detail.clone(),
     };
     let at = after.scenes.partition_point(|(live, _)| *live < id);
     after.scenes.insert(at, (id, scene));
@@ -305,6 +309,7 @@ fn update(
         scene.module_decision = report.decision;
         scene.requested = report.requested;
         scene.geometry = report.geometry;
+        scene.detail.clone_from(&report.detail);
         scene.age_ms = 0;
     }
     fires(Rule::OwnerUpdate, after, Vec::new())

@@ -191,12 +191,20 @@ impl Interface<'_> {
         } else {
             Decision::Deactivate
         };
+        // RTC statuses carry no detail.
         let report = Report {
-            decision,
             requested,
-            geometry: self.binding.geometry(start_distance, finish_distance),
+            ..Report::new(
+                decision,
+                self.binding.geometry(start_distance, finish_distance),
+            )
         };
         let module = self.binding.module;
+        let register = Input::Register {
+            id,
+            module,
+            report: report.clone(),
+        };
         let update = Input::Update {
             id,
             module,
@@ -208,7 +216,6 @@ impl Interface<'_> {
             return Ok(vec![self.state.apply(&update)?]);
         }
         // [COOP-DEV-IMPLICIT-REGISTER.1] [COOP-DEV-REGISTER-PHASE.1]
-        let register = Input::Register { id, module, report };
         let transitions = if phase == Phase::WaitingForExecution {
             vec![self.state.apply(&register)?]
         } else {
