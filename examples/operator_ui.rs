@@ -31,7 +31,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut factors = Vec::new();
     state.velocity_factors_into(&mut factors);
     for factor in &factors {
-        let status = &factor.cooperation;
+        // A factor of a module that does not cooperate has no status: nothing to decide.
+        let Some(status) = factor.cooperation else {
+            continue;
+        };
         let merged = state.merged_decision(status.id).ok_or("live")?;
         println!(
             "{} at {:>5.1} m: module {}, operator {}, cancellable {} -> planner {merged}",
@@ -44,7 +47,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // The operator overrides the crosswalk stop and approves the intersection, in one batch.
-    let ids: Vec<SceneId> = factors.iter().map(|f| f.cooperation.id).collect();
+    let ids: Vec<SceneId> = factors
+        .iter()
+        .filter_map(|f| f.cooperation.map(|status| status.id))
+        .collect();
     let batch = ids
         .iter()
         .map(|&id| Command {

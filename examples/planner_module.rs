@@ -1,15 +1,30 @@
 //! A planning module's side of cooperation: open a scene when a decision is needed, report
-//! the module's judgment every planning cycle, drive with the merged decision, and close the
-//! scene when done. Run it with `cargo run --example planner_module`.
+//! the module's judgment every planning cycle, drive with the merged decision, publish the
+//! factor streams, and close the scene when done. Run it with
+//! `cargo run --example planner_module`.
 
 use cooperation::{
-    Behavior, Config, Decision, Direction, Geometry, Input, Module, Phase, Policy, Report, Rule,
-    SceneId, State,
+    Behavior, Config, Decision, Detail, Direction, Distance, Geometry, Input, Module, Phase,
+    Policy, Pose, Report, Rule, SceneId, Sequence, State, VelocityFactor, VelocityStatus,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let lane_change = Module::new(Behavior::LaneChange);
-    let mut state = State::new(Config::new([(lane_change, Policy::Required)]))?;
+    let crosswalk = Module::new(Behavior::Crosswalk);
+    let mut state = State::new(Config::new([
+        (lane_change, Policy::Required),
+        (crosswalk, Policy::Required),
+    ]))?;
+
+    // A crosswalk scene, telling the operator why it stops.
+    let crossing = SceneId::from_u128(0x5cee_0002);
+    state.apply(&Input::Register {
+        id: crossing,
+        module: crosswalk,
+        report: Report::new(Decision::Deactivate, Geometry::velocity(25.0))
+            .with_detail(Detail::new("pedestrian waiting at the kerb")),
+    })?;
+    publish_velocity_factors(&state)?;
 
     // The module chose this identifier (a random UUID in a real planner).
     let id = SceneId::from_u128(0x5cee_0001);
@@ -91,5 +106,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         rejection,
         rejection.rule()
     );
+    Ok(())
+}
+
+/// What the planner publishes on `/api/planning/velocity_factors`: the cooperating scenes'
+/// factors and its own factors of modules that do not cooperate (here an obstacle ahead), in
+/// one stream, nearest first.
+fn publish_velocity_factors(state: &State) -> Result<(), Box<dyn std::error::Error>> {
+    let obstacle = VelocityFactor {
+        pose: Pose::IDENTITY,
+        distance: Distance(60.0),
+        status: VelocityStatus::Approaching,
+        behavior: Behavior::RunOut,
+        sequence: Sequence::Empty,
+        detail: Detail::new("slowing for a parked truck"),
+        cooperation: None,
+    };
+    let mut factors = Vec::new();
+    state.velocity_factors_with(&[obstacle], &mut factors)?;
+    for factor in &factors {
+        let cooperation = match factor.cooperation {
+            Some(status) => format!("operator {}", status.operator_decision),
+            None => "does not cooperate".to_owned(),
+        };
+        println!(
+            "velocity factor: {} at {} m, {cooperation}: {:?}",
+            factor.behavior,
+            factor.distance.0,
+            factor.detail.as_str()
+        );
+    }
     Ok(())
 }

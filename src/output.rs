@@ -1,6 +1,8 @@
 //! Outputs: cooperation statuses, the factor lists that carry them, and the AD API calls'
 //! responses.
 
+use core::cmp::Ordering;
+
 use crate::{
     Behavior, Command, CommandOutcome, Decision, Detail, Direction, Distance, Geometry, Input,
     OperatorDecision, PolicySetting, Pose, Rejection, Scene, SceneId, Sequence, State,
@@ -34,7 +36,8 @@ impl CooperationStatus {
     }
 }
 
-/// A velocity scene as a factor (AD API `VelocityFactor`).
+/// A velocity scene as a factor (AD API `VelocityFactor`), or a factor of a module that does
+/// not cooperate.
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
@@ -51,11 +54,14 @@ pub struct VelocityFactor {
     pub sequence: Sequence,
     /// The owner's text for the operator.
     pub detail: Detail,
-    /// The scene's cooperation status.
-    pub cooperation: CooperationStatus,
+    /// The scene's cooperation status; `None` for a factor of a module that does not
+    /// cooperate, which a planner publishes in the same stream (AD API: an empty
+    /// `cooperation` list).
+    pub cooperation: Option<CooperationStatus>,
 }
 
-/// A steering scene as a factor (AD API `SteeringFactor`).
+/// A steering scene as a factor (AD API `SteeringFactor`), or a factor of a module that does
+/// not cooperate.
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
@@ -74,11 +80,75 @@ pub struct SteeringFactor {
     pub sequence: Sequence,
     /// The owner's text for the operator.
     pub detail: Detail,
-    /// The scene's cooperation status.
-    pub cooperation: CooperationStatus,
+    /// The scene's cooperation status; `None` for a factor of a module that does not
+    /// cooperate, which a planner publishes in the same stream (AD API: an empty
+    /// `cooperation` list).
+    pub cooperation: Option<CooperationStatus>,
+}
+
+/// At equal distance (`[COOP-OUT-ORDER.1]`): scenes by identifier, then factors without a
+/// cooperation status.
+fn tie(a: Option<&CooperationStatus>, b: Option<&CooperationStatus>) -> Ordering {
+    match (a, b) {
+        (Some(a), Some(b)) => a.id.cmp(&b.id),
+        (Some(_), None) => Ordering::Less,
+        (None, Some(_)) => Ordering::Greater,
+        (None, None) => Ordering::Equal,
+    }
+}
+
+/// A factor given to [`State::velocity_factors_with`] or [`State::steering_factors_with`]
+/// carries a cooperation status: only the core reports scenes, so that a scene is never
+/// listed twice or with a status the core does not hold.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct CooperatingFactor {
+    /// Its position among the factors given.
+    pub index: usize,
+    /// The scene its status names.
+    pub id: SceneId,
+}
+
+impl core::fmt::Display for CooperatingFactor {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "factor {} carries the cooperation status of scene {}: only factors of modules \
+             that do not cooperate may be added to the core's",
+            self.index, self.id
+        )
+    }
+}
+
+impl std::error::Error for CooperatingFactor {}
+
+/// The first factor of `others` with a cooperation status, as the error.
+fn check_others<'a>(
+    others: impl IntoIterator<Item = Option<&'a CooperationStatus>>,
+) -> Result<(), CooperatingFactor> {
+    match others
+        .into_iter()
+        .enumerate()
+        .find_map(|(index, status)| status.map(|status| (index, status.id)))
+    {
+        Some((index, id)) => Err(CooperatingFactor { index, id }),
+        None => Ok(()),
+    }
 }
 
 impl VelocityFactor {
+    /// The scene this factor reports, or `None` for a module that does not cooperate.
+    #[must_use]
+    pub fn scene(&self) -> Option<SceneId> {
+        self.cooperation.map(|status| status.id)
+    }
+
+    /// `[COOP-OUT-ORDER.1]`: nearest first, then [`tie`].
+    fn order(a: &Self, b: &Self) -> Ordering {
+        a.distance
+            .total_cmp(&b.distance)
+            .then_with(|| tie(a.cooperation.as_ref(), b.cooperation.as_ref()))
+    }
+
     /// The factor of the live scene `scene`, whose identifier is `id`, if it is a velocity
     /// scene.
     fn of(id: SceneId, scene: &Scene) -> Option<Self> {
@@ -94,7 +164,7 @@ impl VelocityFactor {
                 behavior: scene.module().behavior,
                 sequence: scene.module().sequence,
                 detail: scene.detail().clone(),
-                cooperation: CooperationStatus::of(id, scene),
+                cooperation: Some(CooperationStatus::of(id, scene)),
             }),
             Geometry::Steering { .. } => None,
         }
@@ -102,6 +172,21 @@ impl VelocityFactor {
 }
 
 impl SteeringFactor {
+    /// The scene this factor reports, or `None` for a module that does not cooperate.
+    #[must_use]
+    pub fn scene(&self) -> Option<SceneId> {
+        self.cooperation.map(|status| status.id)
+    }
+
+    /// `[COOP-OUT-ORDER.1]`: nearest start first, then [`tie`].
+    fn order(a: &Self, b: &Self) -> Ordering {
+        let [a_start, _] = a.distances;
+        let [b_start, _] = b.distances;
+        a_start
+            .total_cmp(&b_start)
+            .then_with(|| tie(a.cooperation.as_ref(), b.cooperation.as_ref()))
+    }
+
     /// The factor of the live scene `scene`, whose identifier is `id`, if it is a steering
     /// scene.
     fn of(id: SceneId, scene: &Scene) -> Option<Self> {
@@ -119,7 +204,7 @@ impl SteeringFactor {
                 behavior: scene.module().behavior,
                 sequence: scene.module().sequence,
                 detail: scene.detail().clone(),
-                cooperation: CooperationStatus::of(id, scene),
+                cooperation: Some(CooperationStatus::of(id, scene)),
             }),
             Geometry::Velocity { .. } => None,
         }
@@ -151,11 +236,7 @@ impl State {
             self.scenes_in_any_order()
                 .filter_map(|(id, scene)| VelocityFactor::of(id, scene)),
         );
-        out.sort_unstable_by(|a, b| {
-            a.distance
-                .total_cmp(&b.distance)
-                .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
-        });
+        out.sort_unstable_by(VelocityFactor::order);
     }
 
     /// Replaces `out`'s contents with the steering factors of the live steering scenes, nearest
@@ -166,13 +247,47 @@ impl State {
             self.scenes_in_any_order()
                 .filter_map(|(id, scene)| SteeringFactor::of(id, scene)),
         );
-        out.sort_unstable_by(|a, b| {
-            let [a_start, _] = a.distances;
-            let [b_start, _] = b.distances;
-            a_start
-                .total_cmp(&b_start)
-                .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
-        });
+        out.sort_unstable_by(SteeringFactor::order);
+    }
+
+    /// Replaces `out`'s contents with the velocity factors of the live velocity scenes and
+    /// `others`, the planner's factors of modules that do not cooperate, in one list ordered
+    /// as [`velocity_factors_into`](Self::velocity_factors_into) orders it: nearest first; at
+    /// equal distance, scenes by identifier and then `others` in the order given.
+    ///
+    /// # Errors
+    /// [`CooperatingFactor`] for the first of `others` with a cooperation status; `out` is
+    /// then left as it was.
+    pub fn velocity_factors_with(
+        &self,
+        others: &[VelocityFactor],
+        out: &mut Vec<VelocityFactor>,
+    ) -> Result<(), CooperatingFactor> {
+        check_others(others.iter().map(|f| f.cooperation.as_ref()))?;
+        self.velocity_factors_into(out);
+        out.extend_from_slice(others);
+        out.sort_by(VelocityFactor::order);
+        Ok(())
+    }
+
+    /// Replaces `out`'s contents with the steering factors of the live steering scenes and
+    /// `others`, the planner's factors of modules that do not cooperate, in one list ordered
+    /// as [`steering_factors_into`](Self::steering_factors_into) orders it: nearest start
+    /// first; at equal distance, scenes by identifier and then `others` in the order given.
+    ///
+    /// # Errors
+    /// [`CooperatingFactor`] for the first of `others` with a cooperation status; `out` is
+    /// then left as it was.
+    pub fn steering_factors_with(
+        &self,
+        others: &[SteeringFactor],
+        out: &mut Vec<SteeringFactor>,
+    ) -> Result<(), CooperatingFactor> {
+        check_others(others.iter().map(|f| f.cooperation.as_ref()))?;
+        self.steering_factors_into(out);
+        out.extend_from_slice(others);
+        out.sort_by(SteeringFactor::order);
+        Ok(())
     }
 
     /// Fills `lists` with both factor lists, ordered as [`velocity_factors_into`] and

@@ -337,7 +337,10 @@ fn coop_out_order_1() {
     }
     let mut velocity_out = Vec::new();
     state.velocity_factors_into(&mut velocity_out);
-    let order: Vec<SceneId> = velocity_out.iter().map(|f| f.cooperation.id).collect();
+    let order: Vec<SceneId> = velocity_out
+        .iter()
+        .map(|f| f.scene().expect("a scene's factor"))
+        .collect();
     // As the spec says: ascending, -0.0 before 0.0, equal distances by identifier, every NaN
     // last (a negative one too: IEEE 754 total order would put it first), positive NaNs before
     // negative ones, negative NaNs in total order (the larger payload first).
@@ -345,14 +348,21 @@ fn coop_out_order_1() {
     assert_eq!(order, expected);
     let mut lists = FactorLists::default();
     state.factors_into(&mut lists);
-    let order: Vec<SceneId> = lists.velocity.iter().map(|f| f.cooperation.id).collect();
+    let order: Vec<SceneId> = lists
+        .velocity
+        .iter()
+        .map(|f| f.scene().expect("a scene's factor"))
+        .collect();
     assert_eq!(order, expected, "factors_into, which sorts keys");
     assert!(velocity_out
         .iter()
         .all(|f| f.behavior == Behavior::LaneChange));
     let mut steering_out = Vec::new();
     state.steering_factors_into(&mut steering_out);
-    let order: Vec<SceneId> = steering_out.iter().map(|f| f.cooperation.id).collect();
+    let order: Vec<SceneId> = steering_out
+        .iter()
+        .map(|f| f.scene().expect("a scene's factor"))
+        .collect();
     assert_eq!(order, [id(11), id(10)]);
     assert!(steering_out
         .iter()

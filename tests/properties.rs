@@ -69,6 +69,16 @@ fn any_detail() -> impl Strategy<Value = Detail> {
     ]
 }
 
+/// A distance for a factor of a module that does not cooperate: often one a scene has too
+/// (the tests' owners report 5 and 10 m), or a signed zero, an infinity or a NaN.
+fn any_other_distance() -> impl Strategy<Value = Distance> {
+    prop_oneof![
+        2 => (-10.0f32..100.0).prop_map(Distance),
+        2 => proptest::sample::select(vec![5.0f32, 10.0, 0.0, -0.0, f32::INFINITY, f32::NAN, -f32::NAN])
+            .prop_map(Distance),
+    ]
+}
+
 fn any_input() -> impl Strategy<Value = Input> {
     prop_oneof![
         3 => (any_owner(), any_decision(), any::<bool>(), any_detail())
@@ -139,17 +149,15 @@ fn any_crowd_input() -> impl Strategy<Value = Input> {
 /// Whether both factor lists are in the order `[COOP-OUT-ORDER.1]` states (the oracle in
 /// `common`, not the library's comparison).
 fn in_spec_order(velocity: &[VelocityFactor], steering: &[SteeringFactor]) -> bool {
-    velocity.windows(2).all(|w| {
-        listed_before(
-            (w[0].distance, w[0].cooperation.id),
-            (w[1].distance, w[1].cooperation.id),
-        )
-    }) && steering.windows(2).all(|w| {
-        listed_before(
-            (w[0].distances[0], w[0].cooperation.id),
-            (w[1].distances[0], w[1].cooperation.id),
-        )
-    })
+    velocity
+        .windows(2)
+        .all(|w| factor_listed_before((w[0].distance, w[0].scene()), (w[1].distance, w[1].scene())))
+        && steering.windows(2).all(|w| {
+            factor_listed_before(
+                (w[0].distances[0], w[0].scene()),
+                (w[1].distances[0], w[1].scene()),
+            )
+        })
 }
 
 /// Which input an input is, to tell the two batch inputs' rejections apart.
@@ -383,31 +391,70 @@ proptest! {
             let ids_of = |kind| -> Vec<SceneId> {
                 state.scenes().filter(|(_, s)| s.geometry().kind() == kind).map(|(id, _)| id).collect()
             };
-            let mut listed: Vec<SceneId> = velocity.iter().map(|f| f.cooperation.id).collect();
+            let mut listed: Vec<SceneId> = velocity.iter().map(|f| f.scene().expect("a scene's factor")).collect();
             listed.sort_unstable();
             prop_assert_eq!(listed, ids_of(FactorKind::Velocity));
-            let mut listed: Vec<SceneId> = steering.iter().map(|f| f.cooperation.id).collect();
+            let mut listed: Vec<SceneId> = steering.iter().map(|f| f.scene().expect("a scene's factor")).collect();
             listed.sort_unstable();
             prop_assert_eq!(listed, ids_of(FactorKind::Steering));
             for factor in &velocity {
-                let id = factor.cooperation.id;
+                let id = factor.scene().expect("a scene's factor");
                 let scene = state.scene(id).expect("live");
-                prop_assert_eq!(Some(factor.cooperation), state.status(id));
+                prop_assert_eq!(factor.cooperation, state.status(id));
                 prop_assert_eq!(Module::with_sequence(factor.behavior, factor.sequence), scene.module());
                 prop_assert_eq!(factor.distance, scene.geometry().sort_distance());
                 prop_assert_eq!(Some(&factor.detail), details.get(&id));
                 prop_assert_eq!(&factor.detail, scene.detail());
             }
             for factor in &steering {
-                let id = factor.cooperation.id;
+                let id = factor.scene().expect("a scene's factor");
                 let scene = state.scene(id).expect("live");
-                prop_assert_eq!(Some(factor.cooperation), state.status(id));
+                prop_assert_eq!(factor.cooperation, state.status(id));
                 prop_assert_eq!(Module::with_sequence(factor.behavior, factor.sequence), scene.module());
                 prop_assert_eq!(factor.distances[0], scene.geometry().sort_distance());
                 prop_assert_eq!(Some(&factor.detail), details.get(&id));
             }
             prop_assert!(in_spec_order(&velocity, &steering), "{:?} {:?}", velocity, steering);
         }
+    }
+
+    /// A planner's factors of modules that do not cooperate join the core's in one list, in the
+    /// order of `[COOP-OUT-ORDER.1]`: the scenes' factors as the core lists them, the others as
+    /// given (sorted stably by distance), and at equal distance scenes first.
+    #[test]
+    fn other_factors_join_the_stream_in_order(
+        inputs in proptest::collection::vec(any_input(), 0..32),
+        others in proptest::collection::vec((any_other_distance(), any_detail()), 0..6),
+    ) {
+        let mut state = state();
+        for input in &inputs {
+            let _ = state.apply(input);
+        }
+        let others: Vec<VelocityFactor> = others
+            .into_iter()
+            .map(|(distance, detail)| VelocityFactor {
+                pose: Pose::IDENTITY,
+                distance,
+                status: VelocityStatus::Approaching,
+                behavior: Behavior::RunOut,
+                sequence: Sequence::Empty,
+                detail,
+                cooperation: None,
+            })
+            .collect();
+        let mut scenes = Vec::new();
+        state.velocity_factors_into(&mut scenes);
+        let mut merged = Vec::new();
+        state.velocity_factors_with(&others, &mut merged).expect("no other factor cooperates");
+        let of_scenes: Vec<VelocityFactor> = merged.iter().filter(|f| f.cooperation.is_some()).cloned().collect();
+        prop_assert_eq!(of_scenes, scenes);
+        let mut expected = others.clone();
+        expected.sort_by(|a, b| spec_distance_order(a.distance.0, b.distance.0));
+        let of_others: Vec<VelocityFactor> = merged.iter().filter(|f| f.cooperation.is_none()).cloned().collect();
+        prop_assert_eq!(of_others, expected);
+        prop_assert!(merged.windows(2).all(|w| {
+            factor_listed_before((w[0].distance, w[0].scene()), (w[1].distance, w[1].scene()))
+        }), "{:?}", merged);
     }
 
     /// With more scenes than a small table holds, and distances that tie, are signed zeros,

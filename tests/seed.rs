@@ -67,16 +67,16 @@ fn seed_sequence_11_steps() {
     assert_eq!(factor.behavior, Behavior::LaneChange);
     assert_eq!(
         factor.cooperation,
-        CooperationStatus {
+        Some(CooperationStatus {
             id: scene,
             module_decision: Decision::Deactivate,
             operator_decision: OperatorDecision::Undecided,
             cancellable: true,
-        }
+        })
     );
     // 7. The operator sends a command to change lanes; 8. the scene updates its operator decision.
     let response = state.set_commands(vec![Command {
-        id: factor.cooperation.id,
+        id: factor.scene().expect("a scene's factor"),
         decision: OperatorDecision::Activate,
     }]);
     assert_eq!(response.status, ResponseStatus::success());

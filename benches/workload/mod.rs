@@ -536,7 +536,7 @@ impl LinearRegistry {
                     sequence,
                     // The workload's owners report no detail.
                     detail: Detail::EMPTY,
-                    cooperation,
+                    cooperation: Some(cooperation),
                 }),
                 Geometry::Steering {
                     poses,
@@ -552,7 +552,7 @@ impl LinearRegistry {
                     sequence,
                     // The workload's owners report no detail.
                     detail: Detail::EMPTY,
-                    cooperation,
+                    cooperation: Some(cooperation),
                 }),
             }
         }
@@ -562,15 +562,16 @@ impl LinearRegistry {
 /// Sorts the factor lists nearest first: the same ordering, by the same sort, as the library,
 /// so that only the registry differs.
 fn sort_factors(out: &mut Outputs) {
+    let id = |status: Option<CooperationStatus>| status.map(|status| status.id);
     out.factors.velocity.sort_unstable_by(|a, b| {
         a.distance
             .total_cmp(&b.distance)
-            .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
+            .then_with(|| id(a.cooperation).cmp(&id(b.cooperation)))
     });
     out.factors.steering.sort_unstable_by(|a, b| {
         a.distances[0]
             .total_cmp(&b.distances[0])
-            .then_with(|| a.cooperation.id.cmp(&b.cooperation.id))
+            .then_with(|| id(a.cooperation).cmp(&id(b.cooperation)))
     });
 }
 

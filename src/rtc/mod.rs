@@ -78,7 +78,7 @@
 //! // The AD API sees the same scene as a steering factor.
 //! let mut factors = Vec::new();
 //! state.steering_factors_into(&mut factors);
-//! assert_eq!(factors[0].cooperation.operator_decision, OperatorDecision::Activate);
+//! assert_eq!(factors[0].cooperation.map(|c| c.operator_decision), Some(OperatorDecision::Activate));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

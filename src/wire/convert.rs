@@ -315,14 +315,16 @@ impl From<crate::Pose> for Pose {
 }
 
 /// The one cooperation status a factor of the core carries.
-fn cooperation(list: &[CooperationStatus]) -> Result<crate::CooperationStatus, Malformed> {
-    let path = FieldPath::field("cooperation");
+/// A factor's cooperation status: none for a module that does not cooperate, one for a
+/// scene, never more.
+fn cooperation(list: &[CooperationStatus]) -> Result<Option<crate::CooperationStatus>, Malformed> {
     match list {
+        [] => Ok(None),
         [status] => crate::CooperationStatus::try_from(status)
+            .map(Some)
             .map_err(|e| e.at_index(0).in_field("cooperation")),
-        [] => Err(Malformed::NoCooperation { path }),
         _ => Err(Malformed::TooManyCooperation {
-            path,
+            path: FieldPath::field("cooperation"),
             len: list.len(),
         }),
     }
@@ -398,8 +400,9 @@ const fn direction_constant(direction: Direction) -> u16 {
 impl TryFrom<&VelocityFactor> for crate::VelocityFactor {
     type Error = Malformed;
 
-    /// The factor of a cooperating scene, `detail` included. Distances are taken as they are,
-    /// NaN included: the core orders them totally.
+    /// The factor of a cooperating scene, or of a module that does not cooperate (an empty
+    /// `cooperation` list), `detail` included. Distances are taken as they are, NaN included:
+    /// the core orders them totally.
     fn try_from(factor: &VelocityFactor) -> Result<Self, Malformed> {
         let status = constant(
             factor.status,
@@ -429,7 +432,7 @@ impl From<crate::VelocityFactor> for VelocityFactor {
             behavior: factor.behavior.as_str().to_owned(),
             sequence: factor.sequence.as_str().to_owned(),
             detail: factor.detail.as_str().to_owned(),
-            cooperation: vec![factor.cooperation.into()],
+            cooperation: factor.cooperation.map(Into::into).into_iter().collect(),
         }
     }
 }
@@ -437,8 +440,9 @@ impl From<crate::VelocityFactor> for VelocityFactor {
 impl TryFrom<&SteeringFactor> for crate::SteeringFactor {
     type Error = Malformed;
 
-    /// The factor of a cooperating scene, `detail` included. Distances are taken as they are,
-    /// NaN included: the core orders them totally.
+    /// The factor of a cooperating scene, or of a module that does not cooperate (an empty
+    /// `cooperation` list), `detail` included. Distances are taken as they are, NaN included:
+    /// the core orders them totally.
     fn try_from(factor: &SteeringFactor) -> Result<Self, Malformed> {
         let direction = constant(
             factor.direction,
@@ -476,7 +480,7 @@ impl From<crate::SteeringFactor> for SteeringFactor {
             behavior: factor.behavior.as_str().to_owned(),
             sequence: factor.sequence.as_str().to_owned(),
             detail: factor.detail.as_str().to_owned(),
-            cooperation: vec![factor.cooperation.into()],
+            cooperation: factor.cooperation.map(Into::into).into_iter().collect(),
         }
     }
 }

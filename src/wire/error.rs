@@ -303,12 +303,6 @@ pub enum Malformed {
         /// Its length.
         len: usize,
     },
-    /// A factor without a cooperation status: the core's factors are its scenes, and every
-    /// scene has one.
-    NoCooperation {
-        /// The list.
-        path: FieldPath,
-    },
     /// Factor poses in another frame than `map`, the frame of the core's poses.
     Frame {
         /// The header's `frame_id`.
@@ -341,7 +335,6 @@ macro_rules! with_path {
             | Malformed::UnknownBehavior { path: $path, .. }
             | Malformed::UnknownSequence { path: $path, .. }
             | Malformed::TooManyCooperation { path: $path, .. }
-            | Malformed::NoCooperation { path: $path }
             | Malformed::Frame { path: $path, .. }
             | Malformed::TooLarge { path: $path, .. } => $body,
         }
@@ -460,9 +453,6 @@ impl fmt::Display for Malformed {
             ),
             Self::TooManyCooperation { len, .. } => {
                 write!(f, "{len} entries; a factor has at most 1")
-            }
-            Self::NoCooperation { .. } => {
-                f.write_str("empty; a scene's factor carries the scene's cooperation status")
             }
             Self::Frame { given, .. } => {
                 write!(

@@ -97,6 +97,6 @@ pub use msg::{
     SteeringFactor, SteeringFactorArray, Time, Uuid, VelocityFactor, VelocityFactorArray,
 };
 pub use service::{
-    from_json, get_policies, set_commands, set_policies, steering_factors, to_json,
-    velocity_factors, Service, FRAME_ID, MAX_REQUEST_BYTES,
+    from_json, get_policies, set_commands, set_policies, steering_factors, steering_factors_with,
+    to_json, velocity_factors, velocity_factors_with, Service, FRAME_ID, MAX_REQUEST_BYTES,
 };

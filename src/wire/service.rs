@@ -3,7 +3,7 @@
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::State;
+use crate::{CooperatingFactor, State};
 
 use super::error::Leaf;
 use super::{
@@ -77,6 +77,46 @@ fn map_header(stamp: Time) -> Header {
         stamp,
         frame_id: FRAME_ID.to_owned(),
     }
+}
+
+/// `/api/planning/velocity_factors` with factors of modules that do not cooperate: the live
+/// velocity scenes and `others` in one stream, nearest first
+/// ([`State::velocity_factors_with`]), stamped `stamp`, in the `map` frame. Each of `others`
+/// is published with an empty `cooperation` list.
+///
+/// # Errors
+/// [`CooperatingFactor`] for the first of `others` with a cooperation status.
+pub fn velocity_factors_with(
+    state: &State,
+    stamp: Time,
+    others: &[crate::VelocityFactor],
+) -> Result<VelocityFactorArray, CooperatingFactor> {
+    let mut factors = Vec::new();
+    state.velocity_factors_with(others, &mut factors)?;
+    Ok(VelocityFactorArray {
+        header: map_header(stamp),
+        factors: factors.into_iter().map(Into::into).collect(),
+    })
+}
+
+/// `/api/planning/steering_factors` with factors of modules that do not cooperate: the live
+/// steering scenes and `others` in one stream, nearest start first
+/// ([`State::steering_factors_with`]), stamped `stamp`, in the `map` frame. Each of `others`
+/// is published with an empty `cooperation` list.
+///
+/// # Errors
+/// [`CooperatingFactor`] for the first of `others` with a cooperation status.
+pub fn steering_factors_with(
+    state: &State,
+    stamp: Time,
+    others: &[crate::SteeringFactor],
+) -> Result<SteeringFactorArray, CooperatingFactor> {
+    let mut factors = Vec::new();
+    state.steering_factors_with(others, &mut factors)?;
+    Ok(SteeringFactorArray {
+        header: map_header(stamp),
+        factors: factors.into_iter().map(Into::into).collect(),
+    })
 }
 
 /// `/api/planning/steering_factors`: the live steering scenes, nearest start first

@@ -252,6 +252,22 @@ pub fn listed_before(a: (Distance, SceneId), b: (Distance, SceneId)) -> bool {
         .is_lt()
 }
 
+/// Whether a factor at `a` may be listed before one at `b` in a list with factors of modules
+/// that do not cooperate (scene `None`): by distance in [`spec_distance_order`]; at equal
+/// distance, scenes by identifier before the others, which keep the order they were given in.
+pub fn factor_listed_before(
+    a: (Distance, Option<SceneId>),
+    b: (Distance, Option<SceneId>),
+) -> bool {
+    let tie = match (a.1, b.1) {
+        (Some(x), Some(y)) => x.cmp(&y),
+        (Some(_), None) => core::cmp::Ordering::Less,
+        (None, Some(_)) => core::cmp::Ordering::Greater,
+        (None, None) => core::cmp::Ordering::Less,
+    };
+    spec_distance_order(a.0 .0, b.0 .0).then(tie).is_lt()
+}
+
 /// Registers scene `n` through the RTC interface `name`: safe, waiting, its section starting
 /// at `start` and ending at 90 m.
 pub fn rtc_register_at(rtc: &mut rtc::Rtc, state: &mut State, name: &str, n: u128, start: f32) {

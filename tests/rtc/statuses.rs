@@ -101,8 +101,8 @@ fn rtc_scenes_are_ad_api_factors() {
     assert_eq!(velocity.len(), 1);
     assert_eq!(velocity[0].behavior, Behavior::TrafficSignal);
     assert_eq!(
-        velocity[0].cooperation.module_decision,
-        Decision::Deactivate
+        velocity[0].cooperation.map(|status| status.module_decision),
+        Some(Decision::Deactivate)
     );
 }
 

@@ -7,9 +7,11 @@
 mod core_rules;
 mod fields;
 mod malformed;
+mod mixed;
 mod requests;
 mod roundtrip;
 mod strategies;
+mod visibility;
 mod wire_fixtures;
 
 use cooperation::wire::{self, FieldPath, Malformed, PathSegment, Service};

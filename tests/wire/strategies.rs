@@ -259,7 +259,8 @@ pub(crate) fn core_velocity_factor() -> impl Strategy<Value = VelocityFactor> {
         status,
         module(),
         detail(),
-        core_status(),
+        // Sometimes a factor of a module that does not cooperate.
+        prop::option::weighted(0.8, core_status()),
     )
         .prop_map(
             |(pose, distance, status, module, detail, cooperation)| VelocityFactor {
@@ -300,7 +301,7 @@ pub(crate) fn core_steering_factor() -> impl Strategy<Value = SteeringFactor> {
         direction,
         status,
         module(),
-        (detail(), core_status()),
+        (detail(), prop::option::weighted(0.8, core_status())),
     )
         .prop_map(
             |(poses, distances, direction, status, module, (detail, cooperation))| SteeringFactor {

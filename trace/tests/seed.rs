@@ -109,12 +109,12 @@ fn seed_trace_is_the_design_page_sequence() {
     assert_eq!(factor.behavior, Behavior::LaneChange);
     assert_eq!(
         factor.cooperation,
-        CooperationStatus {
+        Some(CooperationStatus {
             id,
             module_decision: Decision::Deactivate,
             operator_decision: OperatorDecision::Undecided,
             cancellable: true,
-        }
+        })
     );
     // 7-8. The operator's command applies; the operator decision is activate.
     assert_eq!(

@@ -216,13 +216,16 @@ fn factor_lists_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
     core.steering_factors_into(&mut steering);
     let mut lists = FactorLists::default();
     core.factors_into(&mut lists);
+    // Every factor of the core's lists is a scene's, with the scene's current status.
     let statuses_are_current = velocity
         .iter()
-        .map(|f| &f.cooperation)
-        .chain(steering.iter().map(|f| &f.cooperation))
-        .all(|status| core.status(status.id).as_ref() == Some(status));
+        .map(|f| f.cooperation)
+        .chain(steering.iter().map(|f| f.cooperation))
+        .all(|status| status.is_some_and(|status| core.status(status.id) == Some(status)));
     let geometry_is_the_scenes = velocity.iter().all(|f| {
-        core.scene(f.cooperation.id).map(|s| *s.geometry())
+        f.cooperation
+            .and_then(|status| core.scene(status.id))
+            .map(|s| *s.geometry())
             == Some(Geometry::Velocity {
                 pose: f.pose,
                 distance: f.distance,
@@ -233,12 +236,12 @@ fn factor_lists_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
         && geometry_is_the_scenes
         && velocity
             .iter()
-            .map(|f| f.cooperation.id)
-            .eq(expected(FactorKind::Velocity))
+            .map(|f| f.cooperation.map(|status| status.id))
+            .eq(expected(FactorKind::Velocity).into_iter().map(Some))
         && steering
             .iter()
-            .map(|f| f.cooperation.id)
-            .eq(expected(FactorKind::Steering))
+            .map(|f| f.cooperation.map(|status| status.id))
+            .eq(expected(FactorKind::Steering).into_iter().map(Some))
         && lists.velocity == velocity
         && lists.steering == steering
 }
