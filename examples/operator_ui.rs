@@ -98,11 +98,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "withdraw the intersection decision: success {}",
         response.status.success
     );
-    let status = state.set_policies(vec![PolicySetting {
+    let response = state.set_policies(vec![PolicySetting {
         module: intersection,
         policy: Policy::Optional,
     }]);
-    println!("set_policies: success {}", status.success);
+    println!(
+        "set_policies: success {} ({:?})",
+        response.status.success,
+        response.result.map(|t| t.rule)
+    );
     let (_, policies) = state.get_policies();
     for setting in policies {
         println!("  {} is {}", setting.module, setting.policy);

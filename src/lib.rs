@@ -78,8 +78,8 @@ pub use input::{Command, Described, Input, PolicySetting, Report};
 
 pub use module::{Behavior, Module, Sequence, UnknownName};
 pub use output::{
-    CommandsResponse, CooperatingFactor, CooperationStatus, FactorLists, ResponseStatus,
-    SteeringFactor, VelocityFactor,
+    CommandsResponse, CooperatingFactor, CooperationStatus, FactorLists, PoliciesResponse,
+    ResponseStatus, SteeringFactor, VelocityFactor,
 };
 pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};

@@ -389,7 +389,8 @@ impl State {
     }
 
     /// The AD API `set_commands` call (`[COOP-API-SET-COMMANDS.1]`): applies the batch, all or
-    /// nothing, and answers with the status and every command's outcome.
+    /// nothing, and answers with the status, every command's outcome and what
+    /// [`apply`](Self::apply) returned (the rule that fired or refused).
     pub fn set_commands(&mut self, commands: Vec<Command>) -> CommandsResponse {
         let len = commands.len();
         let result = self.apply(&Input::SetCommands { commands });
@@ -401,15 +402,19 @@ impl State {
         CommandsResponse {
             status: ResponseStatus::for_batch(len, &result),
             outcomes,
+            result,
         }
     }
 
     /// The AD API `set_policies` call (`[COOP-API-SET-POLICIES.1]`): applies the batch, all or
-    /// nothing.
-    pub fn set_policies(&mut self, policies: Vec<PolicySetting>) -> ResponseStatus {
+    /// nothing, and answers with the status and what [`apply`](Self::apply) returned.
+    pub fn set_policies(&mut self, policies: Vec<PolicySetting>) -> PoliciesResponse {
         let len = policies.len();
         let result = self.apply(&Input::SetPolicies { policies });
-        ResponseStatus::for_batch(len, &result)
+        PoliciesResponse {
+            status: ResponseStatus::for_batch(len, &result),
+            result,
+        }
     }
 
     /// The AD API `get_policies` call (`[COOP-POL-GET.1]`): every module's current policy.
@@ -438,6 +443,17 @@ pub struct CommandsResponse {
     pub status: ResponseStatus,
     /// What happened to each command.
     pub outcomes: Vec<CommandOutcome>,
+    /// What [`State::apply`] returned: the rule that fired, or the rejection with its rule.
+    pub result: Result<Transition, Rejection>,
+}
+
+/// The answer to [`State::set_policies`].
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct PoliciesResponse {
+    /// The AD API response status.
+    pub status: ResponseStatus,
+    /// What [`State::apply`] returned: the rule that fired, or the rejection with its rule.
+    pub result: Result<Transition, Rejection>,
 }
 
 /// The AD API `ResponseStatus` (`autoware_adapi_v1_msgs/ResponseStatus`): success, a code and

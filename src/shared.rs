@@ -9,7 +9,8 @@
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::{
-    Command, CommandsResponse, Input, PolicySetting, Rejection, ResponseStatus, State, Transition,
+    Command, CommandsResponse, Input, PoliciesResponse, PolicySetting, Rejection, ResponseStatus,
+    State, Transition,
 };
 
 /// A [`State`] behind a lock: `Send + Sync`, shareable through an `Arc`.
@@ -65,18 +66,14 @@ impl Shared {
     }
 
     /// Applies `inputs` in order under one acquisition of the lock, so no other thread's input
-    /// lands between them (a planning cycle's updates, say), and hands each result to
-    /// `result`. Each input is still applied or rejected on its own.
+    /// lands between them (a planning cycle's updates, say), and returns each one's result, in
+    /// the order of `inputs`. Each input is still applied or rejected on its own.
     pub fn apply_all<'a>(
         &self,
         inputs: impl IntoIterator<Item = &'a Input>,
-        mut result: impl FnMut(&'a Input, Result<Transition, Rejection>),
-    ) {
+    ) -> Vec<Result<Transition, Rejection>> {
         let mut state = self.lock();
-        for input in inputs {
-            let outcome = state.apply(input);
-            result(input, outcome);
-        }
+        inputs.into_iter().map(|input| state.apply(input)).collect()
     }
 
     /// [`State::set_commands`] under the lock.
@@ -85,7 +82,7 @@ impl Shared {
     }
 
     /// [`State::set_policies`] under the lock.
-    pub fn set_policies(&self, policies: Vec<PolicySetting>) -> ResponseStatus {
+    pub fn set_policies(&self, policies: Vec<PolicySetting>) -> PoliciesResponse {
         self.lock().set_policies(policies)
     }
 

@@ -385,6 +385,8 @@ fn coop_api_set_commands_1() {
     ]);
     assert_eq!(applied.status, ResponseStatus::success());
     assert_eq!(applied.outcomes, [CommandOutcome::Applied; 2]);
+    // The one call gives the rule too.
+    assert_eq!(applied.result.map(|t| t.rule), Ok(Rule::CommandApply));
     let rejected = state.set_commands(vec![
         Command {
             id: id(9),
@@ -396,6 +398,13 @@ fn coop_api_set_commands_1() {
         },
     ]);
     assert!(!rejected.status.success);
+    assert_eq!(
+        rejected
+            .result
+            .clone()
+            .map_err(|rejection| rejection.rule()),
+        Err(Rule::CommandUnknown)
+    );
     assert_eq!(
         rejected.outcomes,
         [
@@ -418,16 +427,18 @@ fn coop_api_set_commands_1() {
     assert_eq!(too_many.outcomes, [CommandOutcome::Withheld; 5]);
 }
 
-/// `[COOP-API-SET-POLICIES.1]`: applies all or nothing and answers with a status.
+/// `[COOP-API-SET-POLICIES.1]`: applies all or nothing and answers with a status, and with
+/// the rule that fired or refused.
 #[test]
 fn coop_api_set_policies_1() {
     let mut state = with_scenes();
-    let status = state.set_policies(vec![PolicySetting {
+    let response = state.set_policies(vec![PolicySetting {
         module: AVOIDANCE,
         policy: Policy::Optional,
     }]);
-    assert_eq!(status, ResponseStatus::success());
-    let status = state.set_policies(vec![
+    assert_eq!(response.status, ResponseStatus::success());
+    assert_eq!(response.result.map(|t| t.rule), Ok(Rule::PolicySet));
+    let response = state.set_policies(vec![
         PolicySetting {
             module: LANE_CHANGE,
             policy: Policy::Required,
@@ -437,8 +448,12 @@ fn coop_api_set_policies_1() {
             policy: Policy::Required,
         },
     ]);
-    assert!(!status.success);
-    assert_eq!(status.code, ResponseStatus::PARAMETER_ERROR);
+    assert!(!response.status.success);
+    assert_eq!(response.status.code, ResponseStatus::PARAMETER_ERROR);
+    assert_eq!(
+        response.result.map_err(|rejection| rejection.rule()),
+        Err(Rule::PolicyUnknown)
+    );
     assert_eq!(state.policy(LANE_CHANGE), Some(Policy::Optional));
 }
 
@@ -483,7 +498,7 @@ fn coop_api_status_1() {
         }
     );
     assert_eq!(
-        state.set_policies(Vec::new()).code,
+        state.set_policies(Vec::new()).status.code,
         ResponseStatus::NO_EFFECT
     );
     let rejected = state.set_commands(vec![

@@ -388,6 +388,11 @@ proptest! {
                 .map(|(id, _)| state.status(id).expect("live"))
                 .collect();
             prop_assert_eq!(&statuses, &expected);
+            let merged: Vec<(SceneId, Decision)> = state
+                .scenes()
+                .map(|(id, _)| (id, state.merged_decision(id).expect("configured")))
+                .collect();
+            prop_assert_eq!(state.merged_decisions().collect::<Vec<_>>(), merged);
             let ids_of = |kind| -> Vec<SceneId> {
                 state.scenes().filter(|(_, s)| s.geometry().kind() == kind).map(|(id, _)| id).collect()
             };

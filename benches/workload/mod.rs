@@ -303,7 +303,7 @@ impl Registry for State {
     }
 
     fn set_policies(&mut self, policies: Vec<PolicySetting>) -> bool {
-        Self::set_policies(self, policies).success
+        Self::set_policies(self, policies).status.success
     }
 
     fn retired_capacity(&self) -> usize {

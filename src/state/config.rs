@@ -18,12 +18,59 @@ pub struct Config {
 }
 
 impl Config {
-    /// A configuration with these default policies and [`Limits::default`].
+    /// A configuration with these default policies and [`Limits::default`]. The methods below
+    /// change one limit each:
+    ///
+    /// ```
+    /// use cooperation::{Behavior, Config, Module, Policy, State};
+    ///
+    /// let config = Config::new([(Module::new(Behavior::Crosswalk), Policy::Required)])
+    ///     .ttl_ms(2_000)
+    ///     .max_scenes(64);
+    /// assert_eq!((config.limits.ttl_ms, config.limits.max_scenes), (2_000, 64));
+    /// assert_eq!(config.limits.max_batch, 1_024); // the default
+    /// // A limit that cannot work is refused when the state is made.
+    /// assert!(State::new(config.max_batch(0)).is_err());
+    /// ```
     pub fn new(policies: impl IntoIterator<Item = (Module, Policy)>) -> Self {
         Self {
             policies: policies.into_iter().collect(),
             limits: Limits::default(),
         }
+    }
+
+    /// This configuration with `limits`.
+    #[must_use]
+    pub fn with_limits(self, limits: Limits) -> Self {
+        Self { limits, ..self }
+    }
+
+    /// This configuration with [`Limits::ttl_ms`] set.
+    #[must_use]
+    pub fn ttl_ms(mut self, ttl_ms: u64) -> Self {
+        self.limits.ttl_ms = ttl_ms;
+        self
+    }
+
+    /// This configuration with [`Limits::max_scenes`] set.
+    #[must_use]
+    pub fn max_scenes(mut self, max_scenes: usize) -> Self {
+        self.limits.max_scenes = max_scenes;
+        self
+    }
+
+    /// This configuration with [`Limits::retired_capacity`] set.
+    #[must_use]
+    pub fn retired_capacity(mut self, retired_capacity: usize) -> Self {
+        self.limits.retired_capacity = retired_capacity;
+        self
+    }
+
+    /// This configuration with [`Limits::max_batch`] set.
+    #[must_use]
+    pub fn max_batch(mut self, max_batch: usize) -> Self {
+        self.limits.max_batch = max_batch;
+        self
     }
 }
 

@@ -122,6 +122,15 @@ impl State {
         Some(scene.merged_decision(policy))
     }
 
+    /// Every live scene's merged decision (`[COOP-MERGE.1]`), in identifier order: what
+    /// [`merged_decision`](Self::merged_decision) gives for each, with no policy to look up.
+    pub fn merged_decisions(&self) -> impl Iterator<Item = (SceneId, Decision)> + '_ {
+        self.scenes().filter_map(|(id, scene)| {
+            let policy = self.policies.get(scene.module)?;
+            Some((id, scene.merged_decision(policy)))
+        })
+    }
+
     /// Whether the operator activated what the module would not (`[COOP-FORCE-ACTIVATED.1]`).
     #[must_use]
     pub fn force_activated(&self, id: SceneId) -> Option<bool> {

@@ -90,7 +90,9 @@ impl Scene {
     }
 
     /// The merged decision under the module's policy (`[COOP-MERGE.1]`), with the policy
-    /// made `required` for a requested scene (`[COOP-REQUESTED.1]`).
+    /// made `required` for a requested scene (`[COOP-REQUESTED.1]`). A scene does not hold its
+    /// module's policy: [`State::merged_decision`](crate::State::merged_decision) and
+    /// [`State::merged_decisions`](crate::State::merged_decisions) look it up.
     #[must_use]
     pub const fn merged_decision(&self, module_policy: Policy) -> Decision {
         merge(

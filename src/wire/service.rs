@@ -39,7 +39,7 @@ pub fn set_policies(
     request: &SetCooperationPoliciesRequest,
 ) -> SetCooperationPoliciesResponse {
     let status = match request.to_policies() {
-        Ok(policies) => state.set_policies(policies),
+        Ok(policies) => state.set_policies(policies).status,
         Err(malformed) => malformed.to_status(),
     };
     SetCooperationPoliciesResponse { status }

@@ -307,7 +307,7 @@ proptest! {
             }
             Ok(policies) => {
                 let mut expected = before.clone();
-                let core = expected.set_policies(policies);
+                let core = expected.set_policies(policies).status;
                 prop_assert_eq!(response.status, core.clone());
                 prop_assert_eq!(&state, &expected);
                 if !core.success {
