@@ -1,7 +1,10 @@
 //! The rule-pair coverage of the sequential model (docs/verification.md, *Small scopes*):
 //! measured at the small bounds, it holds the pairs the argument needs, grows only with the
 //! bounds, is the same with and without symmetry reduction and on any number of threads, and
-//! runs with every fault injected.
+//! runs with every fault injected; the command reports it, saves it, and says when it stopped
+//! early.
+
+use std::process::Command;
 
 use cooperation::Rule::{
     CommandApply, CommandRetired, OwnerFinish, OwnerUpdate, PolicySet, RegisterFull, RegisterNew,
@@ -9,7 +12,7 @@ use cooperation::Rule::{
 };
 use cooperation::{Input, Rule};
 use cooperation_models::budget::Halt;
-use cooperation_models::coverage::{explore, named, Found, Pairs, Progress, Scope};
+use cooperation_models::coverage::{explore, named, Found, Pairs, Progress, Record, Scope};
 use cooperation_models::run::{check, Settings, Strategy};
 use cooperation_models::{Bounds, Fault, SequentialModel};
 
@@ -174,4 +177,42 @@ fn scopes_compare_the_identifiers_named() {
         |i| matches!(i, Input::SetCommands { commands } if commands.len() == 2 && commands[0].id != commands[1].id),
     );
     assert_eq!(pair.map(|i| named(i).count_ones()), Some(2));
+}
+
+fn coverage(args: &[&str]) -> (Option<i32>, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+        .arg("coverage")
+        .args(args)
+        .output()
+        .expect("the command runs");
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn the_command_reports_saves_and_compares() {
+    let file = std::env::temp_dir().join(format!("coverage-{}.json", std::process::id()));
+    let path = file.to_str().expect("a path");
+    let (code, stdout) = coverage(&["--modules", "1", "--scenes", "2", "--write", path]);
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(stdout.contains("| same scene |"), "{stdout}");
+    let record: Record =
+        serde_json::from_str(&std::fs::read_to_string(&file).expect("saved")).expect("reads");
+    assert!(record.complete);
+    assert_eq!(record.pairs, measure(&model(1, 2), true, 2).pairs);
+    assert_eq!(record.counts, Scope::ALL.map(|s| record.pairs.count(s)));
+
+    let (code, stdout) = coverage(&["--modules", "2", "--scenes", "2", "--against", path]);
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(stdout.contains("- 0 pairs there, not here"), "{stdout}");
+    let _ = std::fs::remove_file(&file);
+
+    let (code, stdout) = coverage(&["--scenes", "3", "--timeout", "0"]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("incomplete: stopped by the time limit"),
+        "{stdout}"
+    );
 }
