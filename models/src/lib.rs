@@ -13,6 +13,7 @@
 )]
 
 pub mod budget;
+pub mod coverage;
 pub mod describe;
 pub mod diagrams;
 pub mod fault;

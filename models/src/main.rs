@@ -10,6 +10,9 @@
 //! cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
 //! cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
+//! cooperation-models coverage [--modules M] [--scenes N] [--live L] [--retired R]
+//!                            [--threads T] [--no-symmetry] [--fault NAME] [--timeout SECONDS]
+//!                            [--memory-gib G] [--max-states N] [--write FILE] [--against FILE]
 //! cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
 //! cooperation-models replay  FILE
 //! ```
@@ -30,6 +33,7 @@ use cooperation_models::budget::GIB;
 use cooperation_models::run::{Settings, Stop, Strategy};
 
 mod checks;
+mod pairs;
 mod reach;
 mod swarm;
 use cooperation_models::{Bounds, Fault, RtcFault, Trace, Views};
@@ -52,6 +56,10 @@ const USAGE: &str = "usage:
                              [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
                              [--table adaptive|hashed] [--out DIR]
   cooperation-models reach   [--full] [--only BOUNDS] [--write FILE]
+  cooperation-models coverage [--modules M] [--scenes N] [--live L] [--retired R]
+                             [--threads T] [--no-symmetry] [--fault NAME]
+                             [--timeout SECONDS] [--memory-gib G] [--max-states N]
+                             [--write FILE] [--against FILE]
   cooperation-models explore [--modules M] [--scenes N] [--live L] [--retired R] [--address A]
   cooperation-models replay  FILE
   cooperation-models diagrams [--check]
@@ -75,8 +83,12 @@ million distinct states (--max-states), or the time limit. simulate takes one ra
 the sequential model per seed (default 0..100, 1000 inputs a walk, up to 64 identifiers and 8
 modules), checks every property in every state visited, and stops at the first violation,
 saving its trace; a walk depends on its seed alone, so disjoint seed ranges on separate
-machines make one run. Exit status: 0 every property satisfied (and, for check, the search
-complete), 1 otherwise, 2 bad usage. Faults (sensitivity tests): ";
+machines make one run. coverage explores the sequential model's reachable states breadth
+first (symmetry as check uses it) and lists every ordered pair of consecutive rules, on the same
+scene, on different scenes or not scene-specific; --write saves them as JSON (rewritten after
+every level, so a run that dies leaves what it found), --against FILE compares with such a file.
+Exit status: 0 every property satisfied (and, for check and coverage, the search complete), 1
+otherwise, 2 bad usage. Faults (sensitivity tests): ";
 
 /// Which model to check.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -102,6 +114,8 @@ pub(crate) struct Options {
     pub(crate) operators: usize,
     pub(crate) views: Views,
     pub(crate) seeds: std::ops::Range<u64>,
+    pub(crate) write: Option<PathBuf>,
+    pub(crate) against: Option<PathBuf>,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -125,6 +139,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut operators = cooperation_models::network::OPERATORS;
     let mut views = Views::Identifiers;
     let mut seeds = 0..100;
+    let (mut write, mut against) = (None, None);
     let mut rest = args.iter();
     while let Some(flag) = rest.next() {
         if flag == "--no-symmetry" {
@@ -171,6 +186,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 fault = Some(value.clone());
             }
             "--out" => out = PathBuf::from(value),
+            "--write" => write = Some(PathBuf::from(value)),
+            "--against" => against = Some(PathBuf::from(value)),
             "--bytes" => bytes = number()?,
             "--operators" => operators = number()?,
             "--views" => {
@@ -246,6 +263,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
         operators,
         views,
         seeds,
+        write,
+        against,
     })
 }
 
@@ -364,6 +383,7 @@ fn main() -> ExitCode {
         }
         Some((command, rest)) if command == "check" => parse(rest).and_then(|o| checks::run(&o)),
         Some((command, rest)) if command == "reach" => reach::run(rest),
+        Some((command, rest)) if command == "coverage" => parse(rest).and_then(|o| pairs::run(&o)),
         Some((command, rest)) if command == "simulate" => parse(rest).and_then(|o| swarm::run(&o)),
         Some((command, rest)) if command == "explore" => parse(rest).and_then(|o| explore(&o)),
         Some((command, [file])) if command == "replay" => replay(file),

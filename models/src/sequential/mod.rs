@@ -31,7 +31,7 @@ use alphabet::alphabet;
 use ghost::{against_spec, observe};
 pub use ghost::{Broken, Ghost};
 pub use properties::{properties, rule_property, INVARIANTS};
-pub use step::Step;
+pub use step::{identity, Names, Step};
 
 /// The modules a model draws from, with their default policies: the first `modules` of these.
 pub const MODULES: [(Module, Policy); 8] = [

@@ -4,7 +4,7 @@
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, OnceLock};
 
-use cooperation::{Rule, SceneId, State};
+use cooperation::{Module, Retirement, Rule, Scene, SceneId, State};
 use stateright::Representative;
 
 use super::Ghost;
@@ -179,8 +179,34 @@ impl Representative for Step {
     }
 }
 
+/// What is known of one identifier in a step, the key the canonical form sorts identifiers by:
+/// its live scene, its retirement, its first module, whether it ever retired, and (when the
+/// retirement order matters) its place in that order. Two identifiers with the same signature
+/// can be swapped without changing the step.
+type Signature<'a> = (
+    Option<&'a Scene>,
+    Option<Retirement>,
+    Option<Module>,
+    bool,
+    Option<usize>,
+);
+
+/// Every identifier's index, sorted by whether nothing is known of it, then by its signature,
+/// then by the index itself: the new name of the identifier at position `p` is `p + 1`.
+type Signed<'a> = [((bool, Signature<'a>), usize); MAX_SCENES];
+
+/// A renaming of identifiers: identifier `i + 1` becomes identifier `names[i] + 1`.
+pub type Names = [usize; MAX_SCENES];
+
+/// The renaming that keeps every name.
+#[must_use]
+pub fn identity() -> Names {
+    core::array::from_fn(|i| i)
+}
+
 impl Step {
-    fn canonical(&self) -> Option<Self> {
+    /// Every identifier's signature, sorted (see [`Signed`]).
+    fn signed(&self) -> Signed<'_> {
         let core = &self.core;
         let position = |id: SceneId| {
             if self.order_matters {
@@ -198,7 +224,7 @@ impl Step {
             .filter_map(index)
             .map(|i| i + 1)
             .fold(self.ghost.known(), usize::max);
-        let mut signed: [_; MAX_SCENES] = core::array::from_fn(|i| {
+        let mut signed: Signed<'_> = core::array::from_fn(|i| {
             let id = SceneId::from_u128(i as u128 + 1);
             let signature = if i < known {
                 (
@@ -217,15 +243,56 @@ impl Step {
         if let Some(prefix) = signed.get_mut(..known) {
             prefix.sort_unstable();
         }
-        let mut names = [0; MAX_SCENES];
-        for (new, (_, old)) in signed.iter().enumerate() {
+        signed
+    }
+
+    /// The renaming that sorts identifiers by their signatures (see [`Signed`]).
+    fn names(&self) -> Names {
+        let mut names = identity();
+        for (new, (_, old)) in self.signed().iter().enumerate() {
             if let Some(name) = names.get_mut(*old) {
                 *name = new;
             }
         }
-        if names.iter().enumerate().all(|(old, new)| old == *new) {
+        names
+    }
+
+    /// The renaming by which this step's representative
+    /// ([`Representative::representative`]) is this step: identifier `i + 1` here is
+    /// identifier `names[i] + 1` there.
+    #[must_use]
+    pub fn representative_names(&self) -> Names {
+        if self.stalled && self.merge_stalled {
+            // Its own representative (see `representative`).
+            return identity();
+        }
+        let names = self.names();
+        if names == identity()
+            || self
+                .derived
+                .canonical
+                .get_or_init(|| self.canonical())
+                .is_none()
+        {
+            // Already canonical, or the core refused the renaming: the representative is this
+            // step, names unchanged.
+            return identity();
+        }
+        names
+    }
+
+    fn canonical(&self) -> Option<Self> {
+        let names = self.names();
+        if names == identity() {
             return None;
         }
+        self.renamed(&names)
+    }
+
+    /// This step with identifier `i + 1` renamed `names[i] + 1`, its history with it (`names` a
+    /// permutation); `None` if the core refuses the renaming (two identifiers given one name).
+    #[must_use]
+    pub fn renamed(&self, names: &Names) -> Option<Self> {
         let rename = |id: SceneId| {
             index(id)
                 .and_then(|i| names.get(i))
