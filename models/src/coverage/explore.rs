@@ -18,10 +18,9 @@
 //! **Symmetry.** With symmetry, one state of each class of states equal up to renaming is kept,
 //! the representative ([`Representative`]), and arrivals and menus are written in its names.
 //! An input is *symmetric* when every renaming of it is in the alphabet too; then the menu of a
-//! renamed state is the renamed menu, for those inputs. The alphabet also holds a few inputs
-//! that are not (command pairs ordered by identifier, the over-limit batch naming the first
-//! identifier): each of those is also applied to every renaming of the representative, and
-//! their menu entries and arrivals are kept per renaming (*slot*). See `docs/verification.md`,
+//! renamed state is the renamed menu, for those inputs. An input that is not (the over-limit
+//! batch, naming the first identifier) is also applied to every renaming of the
+//! representative, and its menu entries and arrivals are kept per renaming (*slot*). See `docs/verification.md`,
 //! *Small scopes*, for why this gives every pair the search without symmetry gives.
 
 use std::collections::hash_map::Entry as Slot;

@@ -76,8 +76,11 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
             commands: vec![twice, twice],
         });
     }
-    for (n, &a) in ids.iter().enumerate() {
-        for &b in ids.iter().skip(n + 1) {
+    // Every ordered pair, so that the alphabet is closed under renaming identifiers, as
+    // symmetry reduction needs: a class's representative then meets every input any member
+    // of the class could.
+    for &a in ids {
+        for &b in ids.iter().filter(|&&b| b != a) {
             inputs.push(Input::SetCommands {
                 commands: vec![
                     Command {
@@ -95,6 +98,9 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
     inputs.push(Input::SetCommands {
         commands: Vec::new(),
     });
+    // One over-limit batch, naming the first identifier. Its renamings are not in the
+    // alphabet, but the batch limit refuses every one of them before reading an identifier,
+    // so they would all do what this one does.
     if let Some(&id) = ids.first() {
         let command = Command {
             id,
