@@ -8,9 +8,9 @@
 //! `TableLayout::Colliding` answers every input the same and stays equal.
 #![no_main]
 
-use cooperation::{Report, 
-    Behavior, Command, Config, Decision, Direction, Geometry, Input, Module, OperatorDecision,
-    Phase, Policy, PolicySetting, SceneId, Sequence, State, TableLayout,
+use cooperation::{
+    Behavior, Command, Config, Decision, Detail, Direction, Geometry, Input, Module,
+    OperatorDecision, Phase, Policy, PolicySetting, Report, SceneId, Sequence, State, TableLayout,
 };
 use libfuzzer_sys::fuzz_target;
 use serde::de::IgnoredAny;
@@ -113,6 +113,15 @@ fn geometry(byte: u8) -> Geometry {
     }
 }
 
+/// A detail from a byte: mostly none, else a text with characters JSON must escape.
+fn detail(byte: u8) -> Detail {
+    match byte % 4 {
+        0 => Detail::new("waiting for the \"gap\"\n"),
+        1 => Detail::new("é\u{1b}"),
+        _ => Detail::EMPTY,
+    }
+}
+
 /// The next input the bytes build, or `None` when they run out.
 fn input(state: &State, bytes: &mut Bytes<'_>) -> Option<Input> {
     let op = bytes.next()?;
@@ -126,6 +135,7 @@ fn input(state: &State, bytes: &mut Bytes<'_>) -> Option<Input> {
                 decision: decision(op >> 3),
                 requested: op & 0x80 != 0,
                 geometry: geometry(bytes.next()?),
+                detail: detail(a),
             },
         },
         1 => {
@@ -142,6 +152,7 @@ fn input(state: &State, bytes: &mut Bytes<'_>) -> Option<Input> {
                     decision: decision(op >> 6),
                     requested: op & 0x80 != 0,
                     geometry: geometry(bytes.next()?),
+                    detail: detail(b),
                 },
             }
         }

@@ -6,9 +6,9 @@
 #![no_main]
 
 use cooperation::wire::Service;
-use cooperation::{Report, 
-    Behavior, Config, Decision, Geometry, Input, Limits, Module, Policy, ResponseStatus, SceneId,
-    State,
+use cooperation::{
+    Behavior, Config, Decision, Detail, Geometry, Input, Limits, Module, Policy, Report,
+    ResponseStatus, SceneId, State,
 };
 use libfuzzer_sys::fuzz_target;
 
@@ -32,7 +32,15 @@ fn start() -> State {
         unreachable!("a valid configuration")
     };
     for n in 1..=3u128 {
-        let register = Input::Register { id: SceneId::from_u128(n), module: if n % 2 == 0 { avoidance } else { lane_change }, report: Report { decision: Decision::Activate, requested: n == 3, geometry: Geometry::velocity(n as f32) } };
+        let register = Input::Register {
+            id: SceneId::from_u128(n),
+            module: if n % 2 == 0 { avoidance } else { lane_change },
+            report: Report {
+                requested: n == 3,
+                ..Report::new(Decision::Activate, Geometry::velocity(n as f32))
+                    .with_detail(Detail::new("why it waits"))
+            },
+        };
         assert!(state.apply(&register).is_ok());
     }
     state
