@@ -76,7 +76,7 @@ pub use geometry::{
 pub use id::{InvalidSceneId, SceneId};
 pub use input::{Command, Described, Input, PolicySetting, Report};
 
-pub use module::{Behavior, Module, Sequence, UnknownName};
+pub use module::{Behavior, Extension, InvalidName, Module, NameProblem, Sequence};
 pub use output::{
     CommandsResponse, CooperatingFactor, CooperationStatus, FactorLists, PoliciesResponse,
     ResponseStatus, SteeringFactor, VelocityFactor,

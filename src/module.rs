@@ -3,11 +3,32 @@
 use core::fmt;
 use core::str::FromStr;
 
-/// A planning behaviour, as the AD API's `PlanningBehavior` string constants name it.
+mod name;
+#[cfg(feature = "serde")]
+mod serde_form;
+
+pub use name::{Extension, NameProblem};
+
+/// A planning behaviour: one of the AD API's `PlanningBehavior` string constants, or a user
+/// extension.
 ///
-/// The AD API's `UNKNOWN` (the empty string) is not a behaviour: parsing it fails.
+/// The AD API's `UNKNOWN` (the empty string) is not a behaviour: parsing it fails. Any other
+/// string that is not a built-in name is a user extension if it is a valid
+/// [`Extension`] name (1 to 24 bytes of `a-z`, `0-9` and `-`, starting with a letter):
+///
+/// ```
+/// use cooperation::{Behavior, NameProblem};
+///
+/// assert_eq!("lane-change".parse(), Ok(Behavior::LaneChange));
+/// let custom: Behavior = "valet-parking".parse().unwrap();
+/// assert!(matches!(custom, Behavior::Extension(_)));
+/// assert_eq!(custom.as_str(), "valet-parking");
+/// assert_eq!(Behavior::named("lane_change"), Err(NameProblem::Character { at: 4 }));
+/// ```
+///
+/// Built-in behaviours come first in behaviour order, then extensions in the order of their
+/// names. With the `serde` feature a behaviour is written as its string.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Behavior {
     /// `"adaptive-cruise"`.
     AdaptiveCruise,
@@ -49,10 +70,12 @@ pub enum Behavior {
     UserDefinedAttentionArea,
     /// `"virtual-traffic-light"`.
     VirtualTrafficLight,
+    /// A user extension: any other valid name.
+    Extension(Extension),
 }
 
 impl Behavior {
-    /// Every behaviour, in the order of their strings.
+    /// Every built-in behaviour, in the order of their strings.
     pub const ALL: [Self; 20] = [
         Self::AdaptiveCruise,
         Self::Avoidance,
@@ -76,10 +99,67 @@ impl Behavior {
         Self::VirtualTrafficLight,
     ];
 
+    /// The behaviour `name` stands for: a built-in one, or else an extension.
+    ///
+    /// # Errors
+    ///
+    /// Why `name` is neither a built-in name nor a valid [`Extension`] name.
+    pub const fn named(name: &str) -> Result<Self, NameProblem> {
+        let mut rest: &[Self] = &Self::ALL;
+        while let [behavior, tail @ ..] = rest {
+            if let Some(builtin) = behavior.builtin_str() {
+                if name::same(builtin, name) {
+                    return Ok(*behavior);
+                }
+            }
+            rest = tail;
+        }
+        match Extension::new(name) {
+            Ok(extension) => Ok(Self::Extension(extension)),
+            Err(problem) => Err(problem),
+        }
+    }
+
     /// The AD API string.
     #[must_use]
-    pub const fn as_str(self) -> &'static str {
+    pub fn as_str(&self) -> &str {
         match self {
+            Self::Extension(extension) => extension.as_str(),
+            builtin => builtin.builtin_str().unwrap_or_default(),
+        }
+    }
+
+    /// A built-in behaviour's place in [`Behavior::ALL`]; `None` for an extension.
+    pub(crate) const fn rank(self) -> Option<usize> {
+        Some(match self {
+            Self::Extension(_) => return None,
+            Self::AdaptiveCruise => 0,
+            Self::Avoidance => 1,
+            Self::Crosswalk => 2,
+            Self::GoalPlanner => 3,
+            Self::Intersection => 4,
+            Self::LaneChange => 5,
+            Self::Merge => 6,
+            Self::NoDrivableLane => 7,
+            Self::NoStoppingArea => 8,
+            Self::RearCheck => 9,
+            Self::Roundabout => 10,
+            Self::RouteObstacle => 11,
+            Self::RunOut => 12,
+            Self::Sidewalk => 13,
+            Self::StartPlanner => 14,
+            Self::StopSign => 15,
+            Self::SurroundingObstacle => 16,
+            Self::TrafficSignal => 17,
+            Self::UserDefinedAttentionArea => 18,
+            Self::VirtualTrafficLight => 19,
+        })
+    }
+
+    /// The AD API string of a built-in behaviour; `None` for an extension.
+    const fn builtin_str(self) -> Option<&'static str> {
+        Some(match self {
+            Self::Extension(_) => return None,
             Self::AdaptiveCruise => "adaptive-cruise",
             Self::Avoidance => "avoidance",
             Self::Crosswalk => "crosswalk",
@@ -100,38 +180,43 @@ impl Behavior {
             Self::TrafficSignal => "traffic-signal",
             Self::UserDefinedAttentionArea => "user-defined-attention-area",
             Self::VirtualTrafficLight => "virtual-traffic-light",
-        }
+        })
     }
 }
 
-/// A string that names no [`Behavior`] or no [`Sequence`].
+/// A string that names no [`Behavior`] or no [`Sequence`]: neither a built-in name nor a valid
+/// [`Extension`] name.
 #[derive(Clone, PartialEq, Eq, Debug)]
-pub struct UnknownName {
+pub struct InvalidName {
     /// What was being parsed: `"behavior"` or `"sequence"`.
     pub field: &'static str,
     /// The string that was given.
     pub given: String,
+    /// What is wrong with it.
+    pub problem: NameProblem,
 }
 
-impl fmt::Display for UnknownName {
+impl fmt::Display for InvalidName {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "unknown {} {:?}", self.field, self.given)
+        write!(
+            f,
+            "{:?} is not a {}: {}",
+            self.given, self.field, self.problem
+        )
     }
 }
 
-impl std::error::Error for UnknownName {}
+impl std::error::Error for InvalidName {}
 
 impl FromStr for Behavior {
-    type Err = UnknownName;
+    type Err = InvalidName;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|behavior| behavior.as_str() == text)
-            .ok_or_else(|| UnknownName {
-                field: "behavior",
-                given: text.to_owned(),
-            })
+        Self::named(text).map_err(|problem| InvalidName {
+            field: "behavior",
+            given: text.to_owned(),
+            problem,
+        })
     }
 }
 
@@ -141,9 +226,11 @@ impl fmt::Display for Behavior {
     }
 }
 
-/// A planning sequence: which part of a behaviour a module plans (AD API `PlanningSequence`).
+/// A planning sequence: which part of a behaviour a module plans (AD API `PlanningSequence`),
+/// or a user extension (a valid [`Extension`] name that is not a built-in one).
+///
+/// With the `serde` feature a sequence is written as its string (`""` for the empty one).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Sequence {
     /// The empty string: the behaviour is not split into sequences.
     #[default]
@@ -152,40 +239,82 @@ pub enum Sequence {
     Change,
     /// `"return"`: coming back to it.
     Return,
+    /// A user extension: any other valid name.
+    Extension(Extension),
 }
 
 impl Sequence {
-    /// Every sequence.
+    /// Every built-in sequence.
     pub const ALL: [Self; 3] = [Self::Empty, Self::Change, Self::Return];
+
+    /// The sequence `name` stands for: a built-in one (`""` is [`Sequence::Empty`]), or else an
+    /// extension.
+    ///
+    /// # Errors
+    ///
+    /// Why `name` is neither a built-in name nor a valid [`Extension`] name.
+    pub const fn named(name: &str) -> Result<Self, NameProblem> {
+        let mut rest: &[Self] = &Self::ALL;
+        while let [sequence, tail @ ..] = rest {
+            if let Some(builtin) = sequence.builtin_str() {
+                if name::same(builtin, name) {
+                    return Ok(*sequence);
+                }
+            }
+            rest = tail;
+        }
+        match Extension::new(name) {
+            Ok(extension) => Ok(Self::Extension(extension)),
+            Err(problem) => Err(problem),
+        }
+    }
 
     /// The AD API string.
     #[must_use]
-    pub const fn as_str(self) -> &'static str {
+    pub fn as_str(&self) -> &str {
         match self {
-            Self::Empty => "",
-            Self::Change => "change",
-            Self::Return => "return",
+            Self::Extension(extension) => extension.as_str(),
+            builtin => builtin.builtin_str().unwrap_or_default(),
+        }
+    }
+
+    /// A built-in sequence's place in [`Sequence::ALL`]; `None` for an extension.
+    pub(crate) const fn rank(self) -> Option<usize> {
+        match self {
+            Self::Empty => Some(0),
+            Self::Change => Some(1),
+            Self::Return => Some(2),
+            Self::Extension(_) => None,
+        }
+    }
+
+    /// The AD API string of a built-in sequence; `None` for an extension.
+    const fn builtin_str(self) -> Option<&'static str> {
+        match self {
+            Self::Empty => Some(""),
+            Self::Change => Some("change"),
+            Self::Return => Some("return"),
+            Self::Extension(_) => None,
         }
     }
 }
 
 impl FromStr for Sequence {
-    type Err = UnknownName;
+    type Err = InvalidName;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|sequence| sequence.as_str() == text)
-            .ok_or_else(|| UnknownName {
-                field: "sequence",
-                given: text.to_owned(),
-            })
+        Self::named(text).map_err(|problem| InvalidName {
+            field: "sequence",
+            given: text.to_owned(),
+            problem,
+        })
     }
 }
 
 /// A module, identified the AD API way: a behaviour plus a sequence.
 ///
-/// Cooperation policies are held per module (spec §3).
+/// Cooperation policies are held per module (spec §3). Modules are ordered by behaviour, then
+/// sequence.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
@@ -214,16 +343,20 @@ impl Module {
 }
 
 impl Module {
-    /// How many modules there are: every behaviour with every sequence.
+    /// How many built-in modules there are: every built-in behaviour with every built-in
+    /// sequence.
     pub(crate) const COUNT: usize = Behavior::ALL.len() * Sequence::ALL.len();
 
-    /// The module's place in module order, below [`COUNT`](Self::COUNT): a dense index for
-    /// per-module tables.
-    pub(crate) const fn index(self) -> usize {
-        self.behavior as usize * Sequence::ALL.len() + self.sequence as usize
+    /// A built-in module's place in module order, below [`COUNT`](Self::COUNT): a dense index
+    /// for per-module tables. `None` for a module with an extension behaviour or sequence.
+    pub(crate) const fn index(self) -> Option<usize> {
+        match (self.behavior.rank(), self.sequence.rank()) {
+            (Some(behavior), Some(sequence)) => Some(behavior * Sequence::ALL.len() + sequence),
+            _ => None,
+        }
     }
 
-    /// The module at `index` of module order.
+    /// The built-in module at `index` of module order.
     pub(crate) fn at_index(index: usize) -> Option<Self> {
         let behavior = *Behavior::ALL.get(index / Sequence::ALL.len())?;
         let sequence = *Sequence::ALL.get(index % Sequence::ALL.len())?;
@@ -242,53 +375,4 @@ impl fmt::Display for Module {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn behavior_strings_round_trip_and_are_sorted() {
-        for behavior in Behavior::ALL {
-            assert_eq!(behavior.as_str().parse::<Behavior>(), Ok(behavior));
-        }
-        let names: Vec<_> = Behavior::ALL.iter().map(|b| b.as_str()).collect();
-        let mut sorted = names.clone();
-        sorted.sort_unstable();
-        assert_eq!(names, sorted);
-        assert!("".parse::<Behavior>().is_err());
-        assert!("emergency-operation".parse::<Behavior>().is_err());
-    }
-
-    #[test]
-    fn sequences_round_trip() {
-        for sequence in Sequence::ALL {
-            assert_eq!(sequence.as_str().parse::<Sequence>(), Ok(sequence));
-        }
-        assert_eq!(
-            "back".parse::<Sequence>(),
-            Err(UnknownName {
-                field: "sequence",
-                given: "back".into()
-            })
-        );
-    }
-
-    #[test]
-    fn module_index_is_dense_and_in_module_order() {
-        let modules: Vec<Module> = (0..Module::COUNT).filter_map(Module::at_index).collect();
-        assert_eq!(modules.len(), Module::COUNT);
-        assert_eq!(Module::at_index(Module::COUNT), None);
-        for (index, module) in modules.iter().enumerate() {
-            assert_eq!(module.index(), index);
-        }
-        assert!(modules.windows(2).all(|pair| pair[0] < pair[1]));
-    }
-
-    #[test]
-    fn module_display() {
-        assert_eq!(Module::new(Behavior::LaneChange).to_string(), "lane-change");
-        assert_eq!(
-            Module::with_sequence(Behavior::Avoidance, Sequence::Return).to_string(),
-            "avoidance/return"
-        );
-    }
-}
+mod tests;

@@ -6,6 +6,7 @@
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use crate::table::{IdTable, TableLayout};
+use policies::Policies;
 
 use crate::{
     Command, CommandFailure, CommandOutcome, Input, Module, OperatorDecision, Phase, Policy,
@@ -60,50 +61,6 @@ enum Plan<'a> {
     Commands(&'a [Command]),
     /// `[COOP-POL-SET.1]`.
     Policies(&'a [PolicySetting]),
-}
-
-/// Every module's policy, `None` for a module that does not support cooperation: one slot per
-/// module, found by [`Module::index`] without a search.
-#[derive(Clone, PartialEq, Eq, Hash)]
-struct Policies([Option<Policy>; Module::COUNT]);
-
-impl Policies {
-    /// The policy of `module`, if it supports cooperation.
-    fn get(&self, module: Module) -> Option<Policy> {
-        self.0.get(module.index()).copied().flatten()
-    }
-
-    /// The policy of `module`, to change, if it supports cooperation.
-    fn get_mut(&mut self, module: Module) -> Option<&mut Policy> {
-        self.0.get_mut(module.index()).and_then(Option::as_mut)
-    }
-
-    /// Every module that supports cooperation and its policy, in module order.
-    fn iter(&self) -> impl Iterator<Item = (Module, Policy)> + '_ {
-        self.0
-            .iter()
-            .enumerate()
-            .filter_map(|(index, policy)| Some((Module::at_index(index)?, (*policy)?)))
-    }
-}
-
-impl FromIterator<(Module, Policy)> for Policies {
-    /// Of two policies for one module, the later one stays.
-    fn from_iter<I: IntoIterator<Item = (Module, Policy)>>(policies: I) -> Self {
-        let mut slots = [None; Module::COUNT];
-        for (module, policy) in policies {
-            if let Some(slot) = slots.get_mut(module.index()) {
-                *slot = Some(policy);
-            }
-        }
-        Self(slots)
-    }
-}
-
-impl core::fmt::Debug for Policies {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_map().entries(self.iter()).finish()
-    }
 }
 
 /// The whole cooperation state: policies, live scenes and retired identifiers.
@@ -209,7 +166,7 @@ impl State {
             Plan::Register { id, module, report } => {
                 let scene = Scene {
                     module,
-                    phase: Phase::WaitingForExecution,
+                    phase: Phase::Waiting,
                     module_decision: report.decision,
                     operator_decision: OperatorDecision::Undecided,
                     requested: report.requested,
@@ -354,9 +311,7 @@ impl State {
                 rule: Rule::OwnerFinish,
             },
             // [COOP-OWN-UPDATE.1]
-            Phase::WaitingForExecution | Phase::Running | Phase::Aborting => {
-                Plan::Update { at, phase, report }
-            }
+            Phase::Waiting | Phase::Running | Phase::Aborting => Plan::Update { at, phase, report },
         })
     }
 
@@ -537,6 +492,7 @@ impl State {
 
 mod config;
 mod invariants;
+mod policies;
 mod queries;
 #[cfg(feature = "serde")]
 mod raw;

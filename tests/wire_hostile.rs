@@ -563,7 +563,8 @@ fn input_echoed_in_a_message_is_cut_short_and_stays_on_one_line() {
     let message = decoded.to_policies().expect_err("unknown").to_string();
     assert_eq!(
         message,
-        r#"policies[0].behavior: "x\ny" is not a PlanningBehavior value"#
+        "policies[0].behavior: \"x\\ny\" is no PlanningBehavior value or extension name: byte 1 \
+         is not a lower-case ASCII letter, digit or '-'"
     );
     refused_with(
         &mut state,

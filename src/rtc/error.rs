@@ -104,8 +104,9 @@ pub enum RtcError {
         id: SceneId,
         /// The phase asked for.
         phase: Phase,
-        /// The core's rejection of the move from waiting.
-        rejection: Rejection,
+        /// The core's rejection of the move from waiting (boxed: it is rare, and keeps every
+        /// other error small).
+        rejection: Box<Rejection>,
     },
     /// The core refused the input (`[COOP-DEV-SILENT-DROP.1]`).
     Core(Rejection),
@@ -114,9 +115,10 @@ pub enum RtcError {
 impl RtcError {
     /// The core's rejection, if the core refused the call.
     #[must_use]
-    pub const fn rejection(&self) -> Option<&Rejection> {
+    pub fn rejection(&self) -> Option<&Rejection> {
         match self {
-            Self::Core(rejection) | Self::InitialPhase { rejection, .. } => Some(rejection),
+            Self::Core(rejection) => Some(rejection),
+            Self::InitialPhase { rejection, .. } => Some(rejection),
             _ => None,
         }
     }
@@ -184,7 +186,8 @@ impl std::error::Error for RtcError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Field(error) => Some(error),
-            Self::Core(rejection) | Self::InitialPhase { rejection, .. } => Some(rejection),
+            Self::Core(rejection) => Some(rejection),
+            Self::InitialPhase { rejection, .. } => Some(rejection.as_ref()),
             _ => None,
         }
     }

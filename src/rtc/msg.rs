@@ -121,7 +121,7 @@ impl State {
     /// A [`FieldError`] on `type` if it is none of the five constants.
     pub fn phase(&self) -> Result<Phase, FieldError> {
         match self.r#type {
-            Self::WAITING_FOR_EXECUTION => Ok(Phase::WaitingForExecution),
+            Self::WAITING_FOR_EXECUTION => Ok(Phase::Waiting),
             Self::RUNNING => Ok(Phase::Running),
             Self::ABORTING => Ok(Phase::Aborting),
             Self::SUCCEEDED => Ok(Phase::Succeeded),
@@ -138,7 +138,7 @@ impl State {
 impl From<Phase> for State {
     fn from(phase: Phase) -> Self {
         Self::new(match phase {
-            Phase::WaitingForExecution => Self::WAITING_FOR_EXECUTION,
+            Phase::Waiting => Self::WAITING_FOR_EXECUTION,
             Phase::Running => Self::RUNNING,
             Phase::Aborting => Self::ABORTING,
             Phase::Succeeded => Self::SUCCEEDED,

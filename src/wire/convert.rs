@@ -131,18 +131,22 @@ impl From<Decision> for CooperationDecision {
 
 /// A module from its behaviour and sequence strings.
 fn module(behavior: &str, sequence: &str) -> Result<Module, Malformed> {
-    let parsed_behavior = behavior
-        .parse::<Behavior>()
-        .map_err(|_| Malformed::UnknownBehavior {
-            path: FieldPath::field("behavior"),
-            given: behavior.to_owned(),
-        })?;
-    let parsed_sequence = sequence
-        .parse::<Sequence>()
-        .map_err(|_| Malformed::UnknownSequence {
-            path: FieldPath::field("sequence"),
-            given: sequence.to_owned(),
-        })?;
+    let parsed_behavior =
+        behavior
+            .parse::<Behavior>()
+            .map_err(|error| Malformed::InvalidBehavior {
+                path: FieldPath::field("behavior"),
+                given: error.given,
+                problem: error.problem,
+            })?;
+    let parsed_sequence =
+        sequence
+            .parse::<Sequence>()
+            .map_err(|error| Malformed::InvalidSequence {
+                path: FieldPath::field("sequence"),
+                given: error.given,
+                problem: error.problem,
+            })?;
     Ok(Module::with_sequence(parsed_behavior, parsed_sequence))
 }
 

@@ -281,20 +281,25 @@ pub enum Malformed {
         /// Its length.
         len: usize,
     },
-    /// A behaviour string that names no `PlanningBehavior` value (the empty `UNKNOWN`
-    /// included).
-    UnknownBehavior {
+    /// A behaviour string that is neither a `PlanningBehavior` value (the empty `UNKNOWN` is
+    /// refused) nor a valid user-extension name ([`crate::Extension`]).
+    InvalidBehavior {
         /// The field.
         path: FieldPath,
         /// The string given.
         given: String,
+        /// What is wrong with it.
+        problem: crate::NameProblem,
     },
-    /// A sequence string that is neither empty nor a `PlanningSequence` value.
-    UnknownSequence {
+    /// A sequence string that is neither empty, a `PlanningSequence` value nor a valid
+    /// user-extension name ([`crate::Extension`]).
+    InvalidSequence {
         /// The field.
         path: FieldPath,
         /// The string given.
         given: String,
+        /// What is wrong with it.
+        problem: crate::NameProblem,
     },
     /// A factor's `cooperation` list has more than its one allowed entry.
     TooManyCooperation {
@@ -332,8 +337,8 @@ macro_rules! with_path {
             | Malformed::UndefinedConstant { path: $path, .. }
             | Malformed::UnacceptedConstant { path: $path, .. }
             | Malformed::UuidLength { path: $path, .. }
-            | Malformed::UnknownBehavior { path: $path, .. }
-            | Malformed::UnknownSequence { path: $path, .. }
+            | Malformed::InvalidBehavior { path: $path, .. }
+            | Malformed::InvalidSequence { path: $path, .. }
             | Malformed::TooManyCooperation { path: $path, .. }
             | Malformed::Frame { path: $path, .. }
             | Malformed::TooLarge { path: $path, .. } => $body,
@@ -443,12 +448,14 @@ impl fmt::Display for Malformed {
             Self::UuidLength { len, .. } => {
                 write!(f, "a UUID has 16 bytes, not {len}")
             }
-            Self::UnknownBehavior { given, .. } => {
-                write!(f, "{} is not a PlanningBehavior value", Quoted(given))
-            }
-            Self::UnknownSequence { given, .. } => write!(
+            Self::InvalidBehavior { given, problem, .. } => write!(
                 f,
-                "{} is not a PlanningSequence value or the empty string",
+                "{} is no PlanningBehavior value or extension name: {problem}",
+                Quoted(given)
+            ),
+            Self::InvalidSequence { given, problem, .. } => write!(
+                f,
+                "{} is no PlanningSequence value or extension name: {problem}",
                 Quoted(given)
             ),
             Self::TooManyCooperation { len, .. } => {

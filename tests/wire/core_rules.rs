@@ -154,10 +154,11 @@ fn malformed_factors_are_refused_naming_the_field() {
         "factors[0].cooperation[0].uuid.uuid: a UUID has 16 bytes, not 15",
     );
     let mut bad = velocity;
-    bad.factors[0].behavior = "user-extension".into();
+    bad.factors[0].behavior = "user_extension".into();
     check(
         bad.to_factors(),
-        r#"factors[0].behavior: "user-extension" is not a PlanningBehavior value"#,
+        "factors[0].behavior: \"user_extension\" is no PlanningBehavior value or extension \
+         name: byte 4 is not a lower-case ASCII letter, digit or '-'",
     );
 
     let check = |result: Result<Vec<SteeringFactor>, Malformed>, expected: &str| {
@@ -297,9 +298,10 @@ fn long_strings_are_quoted_short_in_messages() {
     let fault = policy_fault(&request);
     assert_eq!(
         fault,
-        Malformed::UnknownBehavior {
+        Malformed::InvalidBehavior {
             path: fault.path().clone(),
-            given: behavior.clone()
+            given: behavior.clone(),
+            problem: NameProblem::TooLong { len: 1 << 19 },
         }
     );
     let message = fault.to_string();

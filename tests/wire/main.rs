@@ -5,6 +5,7 @@
 //! it counts allocations with a global allocator.
 
 mod core_rules;
+mod extensions;
 mod fields;
 mod malformed;
 mod mixed;

@@ -292,7 +292,7 @@ fn text_that_is_not_json_is_refused() {
 }
 
 #[test]
-fn unknown_behaviors_sequences_and_policies_are_refused_naming_the_field() {
+fn invalid_behaviors_sequences_and_policies_are_refused_naming_the_field() {
     let mut state = with_scenes();
     let setting = |behavior: &str, sequence: &str, policy: &str| {
         format!(
@@ -303,38 +303,42 @@ fn unknown_behaviors_sequences_and_policies_are_refused_naming_the_field() {
     for (request, expected) in [
         (
             setting("lane_change", "", "1"),
-            Malformed::UnknownBehavior {
+            Malformed::InvalidBehavior {
                 path: policies_1("behavior"),
                 given: "lane_change".into(),
+                problem: NameProblem::Character { at: 4 },
             },
         ),
         (
             setting("", "", "1"),
-            Malformed::UnknownBehavior {
+            Malformed::InvalidBehavior {
                 path: policies_1("behavior"),
                 given: String::new(),
+                problem: NameProblem::Empty,
             },
         ),
         (
-            // Listed by the design page once, no longer a PlanningBehavior value.
-            setting("emergency-operation", "", "1"),
-            Malformed::UnknownBehavior {
+            setting(&"x".repeat(25), "", "1"),
+            Malformed::InvalidBehavior {
                 path: policies_1("behavior"),
-                given: "emergency-operation".into(),
+                given: "x".repeat(25),
+                problem: NameProblem::TooLong { len: 25 },
             },
         ),
         (
-            setting("avoidance", "back", "1"),
-            Malformed::UnknownSequence {
+            setting("avoidance", "Back", "1"),
+            Malformed::InvalidSequence {
                 path: policies_1("sequence"),
-                given: "back".into(),
+                given: "Back".into(),
+                problem: NameProblem::Character { at: 0 },
             },
         ),
         (
             setting("avoidance", "CHANGE", "1"),
-            Malformed::UnknownSequence {
+            Malformed::InvalidSequence {
                 path: policies_1("sequence"),
                 given: "CHANGE".into(),
+                problem: NameProblem::Character { at: 0 },
             },
         ),
         (
@@ -360,11 +364,13 @@ fn unknown_behaviors_sequences_and_policies_are_refused_naming_the_field() {
     }
     assert_eq!(
         policy_fault(&setting("lane_change", "", "1")).to_string(),
-        r#"policies[1].behavior: "lane_change" is not a PlanningBehavior value"#
+        "policies[1].behavior: \"lane_change\" is no PlanningBehavior value or extension name: \
+         byte 4 is not a lower-case ASCII letter, digit or '-'"
     );
     assert_eq!(
-        policy_fault(&setting("avoidance", "back", "1")).to_string(),
-        r#"policies[1].sequence: "back" is not a PlanningSequence value or the empty string"#
+        policy_fault(&setting("avoidance", "Back", "1")).to_string(),
+        "policies[1].sequence: \"Back\" is no PlanningSequence value or extension name: it does \
+         not start with a lower-case ASCII letter"
     );
     assert_eq!(
         policy_fault(&setting("avoidance", "change", "0")).to_string(),

@@ -23,9 +23,11 @@ pub(crate) fn finite_f32() -> impl Strategy<Value = f32> {
 /// Behaviour and sequence strings: the known ones, near misses, and anything.
 pub(crate) fn name() -> impl Strategy<Value = String> {
     prop_oneof![
-        select(Behavior::ALL.map(Behavior::as_str).to_vec()).prop_map(str::to_owned),
-        select(Sequence::ALL.map(Sequence::as_str).to_vec()).prop_map(str::to_owned),
-        Just("emergency-operation".to_owned()),
+        select(Behavior::ALL.to_vec()).prop_map(|behavior| behavior.as_str().to_owned()),
+        select(Sequence::ALL.to_vec()).prop_map(|sequence| sequence.as_str().to_owned()),
+        // User extensions, valid or too long.
+        Just("valet-parking".to_owned()),
+        "[a-z][a-z0-9-]{0,33}",
         "\\PC{0,12}",
     ]
 }

@@ -7,6 +7,11 @@
 //! library's public queries. The model never moves a state with it: `next_state` calls
 //! `State::apply`, and the properties ask whether what `apply` did is what this says.
 
+// A refusal is the rule with the core's `Rejection` (itself small enough for `State::apply`),
+// compared with what `apply` returned one call up. Boxing it would allocate on every refused
+// step of a check.
+#![allow(clippy::result_large_err)]
+
 use cooperation::{
     Command, CommandFailure, CommandOutcome, Decision, Detail, FactorKind, Geometry, Input, Limits,
     Module, OperatorDecision, Phase, Policy, PolicySetting, Rejection, Report, RetireReason,
@@ -232,7 +237,7 @@ fn register(
     let mut after = before.clone();
     let scene = SceneRecord {
         module,
-        phase: Phase::WaitingForExecution,
+        phase: Phase::Waiting,
         module_decision: report.decision,
         operator_decision: OperatorDecision::Undecided,
         requested: report.requested,
@@ -298,7 +303,7 @@ fn update(
     let finish = match phase {
         Phase::Succeeded => Some(RetireReason::Succeeded),
         Phase::Failed => Some(RetireReason::Failed),
-        Phase::WaitingForExecution | Phase::Running | Phase::Aborting => None,
+        Phase::Waiting | Phase::Running | Phase::Aborting => None,
     };
     if let Some(reason) = finish {
         after.retire(id, reason);
@@ -357,7 +362,7 @@ fn set_commands(before: &Snapshot, commands: &[Command]) -> Result<Verdict, Refu
         let failure = match (before.scene(command.id), before.retirement(command.id)) {
             _ if earlier => Some(CommandFailure::DuplicateId),
             (Some(scene), _) => match scene.phase {
-                Phase::WaitingForExecution | Phase::Running => None,
+                Phase::Waiting | Phase::Running => None,
                 phase => Some(CommandFailure::NotCancellable(phase)),
             },
             (None, Some(retirement)) => Some(CommandFailure::RetiredScene(retirement.reason)),

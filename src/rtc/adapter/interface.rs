@@ -216,7 +216,7 @@ impl Interface<'_> {
             return Ok(vec![self.state.apply(&update)?]);
         }
         // [COOP-DEV-IMPLICIT-REGISTER.1] [COOP-DEV-REGISTER-PHASE.1]
-        let transitions = if phase == Phase::WaitingForExecution {
+        let transitions = if phase == Phase::Waiting {
             vec![self.state.apply(&register)?]
         } else {
             // Both inputs on a copy, so that a refused second one leaves nothing behind.
@@ -227,7 +227,7 @@ impl Interface<'_> {
                 .map_err(|rejection| RtcError::InitialPhase {
                     id,
                     phase,
-                    rejection,
+                    rejection: Box::new(rejection),
                 })?;
             *self.state = next;
             vec![first, second]

@@ -1,0 +1,145 @@
+//! Every configured module's policy.
+
+use crate::{Module, Policy};
+
+/// Every module's policy; a module that does not support cooperation has none.
+///
+/// A built-in module has one slot, found by [`Module::index`] without a search; a module with
+/// an extension name is in a list sorted by module, found by binary search. Both are canonical
+/// (the list has no module twice), so the derived equality and hash are by contents.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub(super) struct Policies {
+    builtin: [Option<Policy>; Module::COUNT],
+    extensions: Vec<(Module, Policy)>,
+}
+
+impl Policies {
+    /// The policy of `module`, if it supports cooperation.
+    pub(super) fn get(&self, module: Module) -> Option<Policy> {
+        match module.index() {
+            Some(index) => self.builtin.get(index).copied().flatten(),
+            None => self
+                .extensions
+                .binary_search_by_key(&module, |&(listed, _)| listed)
+                .ok()
+                .and_then(|at| self.extensions.get(at))
+                .map(|&(_, policy)| policy),
+        }
+    }
+
+    /// The policy of `module`, to change, if it supports cooperation.
+    pub(super) fn get_mut(&mut self, module: Module) -> Option<&mut Policy> {
+        match module.index() {
+            Some(index) => self.builtin.get_mut(index).and_then(Option::as_mut),
+            None => {
+                let at = self
+                    .extensions
+                    .binary_search_by_key(&module, |&(listed, _)| listed)
+                    .ok()?;
+                self.extensions.get_mut(at).map(|(_, policy)| policy)
+            }
+        }
+    }
+
+    /// Every module that supports cooperation and its policy, in module order.
+    pub(super) fn iter(&self) -> impl Iterator<Item = (Module, Policy)> + '_ {
+        let mut builtin = self
+            .builtin
+            .iter()
+            .enumerate()
+            .filter_map(|(index, policy)| Some((Module::at_index(index)?, (*policy)?)))
+            .peekable();
+        let mut extensions = self.extensions.iter().copied().peekable();
+        core::iter::from_fn(move || match (builtin.peek(), extensions.peek()) {
+            (Some(&(a, _)), Some(&(b, _))) if b < a => extensions.next(),
+            (Some(_), _) => builtin.next(),
+            (None, _) => extensions.next(),
+        })
+    }
+}
+
+impl FromIterator<(Module, Policy)> for Policies {
+    /// Of two policies for one module, the later one stays.
+    fn from_iter<I: IntoIterator<Item = (Module, Policy)>>(policies: I) -> Self {
+        let mut builtin = [None; Module::COUNT];
+        let mut extensions = Vec::new();
+        for (module, policy) in policies {
+            match module.index() {
+                Some(index) => {
+                    if let Some(slot) = builtin.get_mut(index) {
+                        *slot = Some(policy);
+                    }
+                }
+                None => extensions.push((module, policy)),
+            }
+        }
+        // A stable sort keeps equal modules in input order; the last of each run stays.
+        extensions.sort_by_key(|&(module, _)| module);
+        extensions.reverse();
+        extensions.dedup_by_key(|&mut (module, _)| module);
+        extensions.reverse();
+        Self {
+            builtin,
+            extensions,
+        }
+    }
+}
+
+impl core::fmt::Debug for Policies {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_map().entries(self.iter()).finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Behavior, Sequence};
+
+    fn extension(behavior: &str, sequence: &str) -> Module {
+        Module::with_sequence(behavior.parse().unwrap(), sequence.parse().unwrap())
+    }
+
+    #[test]
+    fn built_in_and_extension_modules_iterate_in_module_order_and_the_last_policy_stays() {
+        let valet = extension("valet", "");
+        let avoidance_back = Module::with_sequence(Behavior::Avoidance, "back".parse().unwrap());
+        let crosswalk = Module::new(Behavior::Crosswalk);
+        let return_ = Module::with_sequence(Behavior::Avoidance, Sequence::Return);
+        let policies: Policies = [
+            (valet, Policy::Optional),
+            (crosswalk, Policy::Required),
+            (avoidance_back, Policy::Required),
+            (valet, Policy::Required),
+            (return_, Policy::Optional),
+            (avoidance_back, Policy::Optional),
+        ]
+        .into_iter()
+        .collect();
+        let listed: Vec<_> = policies.iter().collect();
+        assert_eq!(
+            listed,
+            [
+                (return_, Policy::Optional),
+                (avoidance_back, Policy::Optional),
+                (crosswalk, Policy::Required),
+                (valet, Policy::Required),
+            ]
+        );
+        assert_eq!(policies.get(valet), Some(Policy::Required));
+        assert_eq!(policies.get(extension("valet", "approach")), None);
+        assert_eq!(policies.get(Module::new(Behavior::Merge)), None);
+    }
+
+    #[test]
+    fn a_policy_changes_in_place_and_equal_contents_are_equal() {
+        let valet = extension("valet", "");
+        let mut policies: Policies = [(valet, Policy::Optional)].into_iter().collect();
+        if let Some(policy) = policies.get_mut(valet) {
+            *policy = Policy::Required;
+        }
+        let expected: Policies = [(valet, Policy::Required)].into_iter().collect();
+        assert_eq!(policies, expected);
+        assert!(policies.get_mut(extension("other", "")).is_none());
+    }
+}
