@@ -39,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for cycle in 1..=6 {
         // Every planning cycle: report the phase and the module's own judgment...
         let phase = if cycle < 4 {
-            Phase::WaitingForExecution
+            Phase::Waiting
         } else {
             Phase::Running
         };

@@ -5,6 +5,7 @@ use core::fmt;
 /// A module decision, or a merged decision: what the planner should do with a scene.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Decision {
     /// Plan with priority on safety (for example: stop, keep the lane). AD API `DEACTIVATE`.
     Deactivate,
@@ -35,6 +36,7 @@ impl fmt::Display for Decision {
 /// An operator decision. Every scene starts [`Undecided`](Self::Undecided) ("none").
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum OperatorDecision {
     /// The operator wants the scene planned with priority on safety. AD API `DEACTIVATE`.
     Deactivate,
@@ -44,6 +46,7 @@ pub enum OperatorDecision {
     Autonomous,
     /// "none": there is no operator decision, so the policy applies. AD API `UNDECIDED`.
     #[default]
+    #[cfg_attr(feature = "serde", serde(rename = "none"))]
     Undecided,
 }
 
@@ -77,6 +80,7 @@ impl fmt::Display for OperatorDecision {
 /// A module's cooperation policy: what an undecided operator means.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Policy {
     /// The module's decision is followed without an operator decision. AD API `OPTIONAL`.
     Optional,

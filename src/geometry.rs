@@ -165,6 +165,7 @@ impl Ord for Distance {
 /// What a velocity factor is doing (AD API `VelocityFactor.status`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum VelocityStatus {
     /// Not known.
     #[default]
@@ -178,6 +179,7 @@ pub enum VelocityStatus {
 /// What a steering factor is doing (AD API `SteeringFactor.status`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum SteeringStatus {
     /// Not known.
     #[default]
@@ -191,6 +193,7 @@ pub enum SteeringStatus {
 /// Which way a steering scene turns (AD API `SteeringFactor.direction`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Direction {
     /// Not known.
     #[default]

@@ -5,9 +5,10 @@ use core::fmt;
 /// Where a scene is in its lifecycle, as its owner reports it.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Phase {
     /// Registered, not yet executing. Every scene starts here.
-    WaitingForExecution,
+    Waiting,
     /// Executing.
     Running,
     /// Being abandoned; the operator can no longer change the decision.
@@ -21,7 +22,7 @@ pub enum Phase {
 impl Phase {
     /// Every phase, in lifecycle order.
     pub const ALL: [Self; 5] = [
-        Self::WaitingForExecution,
+        Self::Waiting,
         Self::Running,
         Self::Aborting,
         Self::Succeeded,
@@ -32,7 +33,7 @@ impl Phase {
     #[must_use]
     pub const fn as_str(self) -> &'static str {
         match self {
-            Self::WaitingForExecution => "waiting",
+            Self::Waiting => "waiting",
             Self::Running => "running",
             Self::Aborting => "aborting",
             Self::Succeeded => "succeeded",
@@ -49,13 +50,13 @@ impl Phase {
     /// Whether operator commands are accepted in this phase (spec `[COOP-CANCELLABLE.1]`).
     #[must_use]
     pub const fn is_cancellable(self) -> bool {
-        matches!(self, Self::WaitingForExecution | Self::Running)
+        matches!(self, Self::Waiting | Self::Running)
     }
 
     /// Whether an owner may move a scene from `self` to `to`: the lifecycle table (spec §7).
     #[must_use]
     pub const fn may_become(self, to: Self) -> bool {
-        use Phase::{Aborting, Failed, Running, Succeeded, WaitingForExecution as Waiting};
+        use Phase::{Aborting, Failed, Running, Succeeded, Waiting};
         matches!(
             (self, to),
             (Waiting, Waiting | Running | Failed)

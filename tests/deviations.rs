@@ -58,12 +58,7 @@ fn coop_dev_none_1() {
     );
     fires(
         &mut state,
-        update(
-            id(1),
-            LANE_CHANGE,
-            Phase::WaitingForExecution,
-            Decision::Activate,
-        ),
+        update(id(1), LANE_CHANGE, Phase::Waiting, Decision::Activate),
         Rule::OwnerUpdate,
     );
     assert_eq!(state.merged_decision(id(1)), Some(Decision::Deactivate));
@@ -188,10 +183,7 @@ fn coop_dev_implicit_register_1() {
         register(id(1), LANE_CHANGE, Decision::Activate),
         Rule::RegisterNew,
     );
-    assert_eq!(
-        state.scene(id(1)).map(Scene::phase),
-        Some(Phase::WaitingForExecution)
-    );
+    assert_eq!(state.scene(id(1)).map(Scene::phase), Some(Phase::Waiting));
 }
 
 /// `[COOP-DEV-ID-REUSE.1]`: after removal, the identifier stays retired for every module.
@@ -299,7 +291,7 @@ fn coop_dev_batch_1() {
 #[test]
 fn coop_dev_force_1() {
     let (mut activated, mut deactivated) = (0, 0);
-    for phase in [Phase::WaitingForExecution, Phase::Running, Phase::Aborting] {
+    for phase in [Phase::Waiting, Phase::Running, Phase::Aborting] {
         for module_decision in Decision::ALL {
             for operator in OperatorDecision::ALL {
                 for policy in Policy::ALL {
@@ -319,8 +311,7 @@ fn coop_dev_force_1() {
                             );
                             fires(&mut state, input, Rule::OwnerUpdate);
                         }
-                        let cancellable =
-                            matches!(phase, Phase::WaitingForExecution | Phase::Running);
+                        let cancellable = matches!(phase, Phase::Waiting | Phase::Running);
                         let force_activated = cancellable
                             && operator == OperatorDecision::Activate
                             && (module_decision == Decision::Deactivate || requested);

@@ -126,7 +126,7 @@ fn update_guards_in_spec_order() {
     }
     assert_eq!(
         state.scene(id(1)).map(Scene::phase),
-        Some(Phase::WaitingForExecution),
+        Some(Phase::Waiting),
         "nothing retired it"
     );
 }

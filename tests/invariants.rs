@@ -57,7 +57,7 @@ fn first_scene(value: &mut Value) -> &mut Value {
 fn coop_inv_disjoint_1() {
     let error = refused(|v| {
         let live = v["scenes"][0][0].clone();
-        v["retired"].as_array_mut().expect("list").push(json!([live, {"module": {"behavior": "LaneChange", "sequence": "Empty"}, "reason": "Removed"}]));
+        v["retired"].as_array_mut().expect("list").push(json!([live, {"module": {"behavior": "lane-change", "sequence": ""}, "reason": "Removed"}]));
         v["retired_order"].as_array_mut().expect("list").push(live);
     });
     assert!(error.contains("COOP-INV-DISJOINT.1"), "{error}");
@@ -127,7 +127,7 @@ fn coop_inv_live_bound_1() {
 
 #[test]
 fn coop_inv_live_phase_1() {
-    for terminal in ["Succeeded", "Failed"] {
+    for terminal in ["succeeded", "failed"] {
         let error = refused_keeping_lengths(|v| first_scene(v)["phase"] = json!(terminal));
         assert!(error.contains("COOP-INV-LIVE-PHASE.1"), "{error}");
     }

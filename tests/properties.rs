@@ -31,7 +31,7 @@ fn any_operator() -> impl Strategy<Value = OperatorDecision> {
 /// only through running, and commands for an aborting scene are a rule of their own.
 fn any_phase() -> impl Strategy<Value = Phase> {
     prop_oneof![
-        1 => Just(Phase::WaitingForExecution),
+        1 => Just(Phase::Waiting),
         2 => Just(Phase::Running),
         2 => Just(Phase::Aborting),
         1 => Just(Phase::Succeeded),

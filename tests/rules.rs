@@ -17,7 +17,7 @@ fn coop_reg_new_1() {
     assert!(transition.retired.is_empty());
     let scene = state.scene(id(7)).expect("live");
     assert_eq!(scene.module(), LANE_CHANGE);
-    assert_eq!(scene.phase(), Phase::WaitingForExecution);
+    assert_eq!(scene.phase(), Phase::Waiting);
     assert_eq!(scene.module_decision(), Decision::Activate);
     assert_eq!(scene.operator_decision(), OperatorDecision::Undecided);
     assert_eq!(scene.age_ms(), 0);
@@ -147,12 +147,7 @@ fn coop_own_module_1() {
 fn coop_own_unknown_1() {
     let mut state = with_scenes();
     for input in [
-        update(
-            id(9),
-            LANE_CHANGE,
-            Phase::WaitingForExecution,
-            Decision::Activate,
-        ),
+        update(id(9), LANE_CHANGE, Phase::Waiting, Decision::Activate),
         Input::Remove {
             id: id(9),
             module: LANE_CHANGE,
@@ -242,7 +237,7 @@ fn coop_own_transition_1() {
         rejection,
         Rejection::PhaseTransition {
             id: id(1),
-            from: Phase::WaitingForExecution,
+            from: Phase::Waiting,
             to: Phase::Aborting
         }
     );

@@ -88,7 +88,7 @@ fn seed_sequence_11_steps() {
     let update = Input::Update {
         id: scene,
         module: LANE_CHANGE,
-        phase: Phase::WaitingForExecution,
+        phase: Phase::Waiting,
         report: Report::new(Decision::Deactivate, geometry),
     };
     fires(&mut state, update, Rule::OwnerUpdate);

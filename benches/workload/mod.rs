@@ -183,7 +183,7 @@ impl Owner {
         if self.running {
             Phase::Running
         } else {
-            Phase::WaitingForExecution
+            Phase::Waiting
         }
     }
 }
@@ -391,7 +391,7 @@ impl Registry for LinearRegistry {
         self.records.push(Record {
             id,
             module,
-            phase: Phase::WaitingForExecution,
+            phase: Phase::Waiting,
             module_decision: decision,
             operator_decision: OperatorDecision::Undecided,
             policy,

@@ -235,6 +235,12 @@ fn check_record(text: &str, record: Record) {
             let file = value["config"].to_string();
             assert_eq!(parse_config(&file).ok(), Some(config), "as a file: {file}");
         }
+        Record::Version(version) => {
+            let Ok(value) = serde_json::from_str::<serde_json::Value>(text) else {
+                panic!("an accepted record is not JSON")
+            };
+            assert_eq!(value["version"].as_u64(), Some(version.number()));
+        }
         Record::At { at_ms, event } => match event {
             Event::Time => assert!(at_ms.is_some()),
             Event::Input(input) => {
@@ -272,10 +278,10 @@ fn check_status(text: &str) {
         parse_status(&serde_json::Value::Object(more).to_string())
     };
     if !fields.contains_key("merged_decision") {
-        assert_eq!(with("merged_decision", "Activate".into()), Ok(status));
+        assert_eq!(with("merged_decision", "activate".into()), Ok(status));
     }
     assert!(
-        with("merged", "Activate".into()).is_err(),
+        with("merged", "activate".into()).is_err(),
         "another field is read"
     );
 }

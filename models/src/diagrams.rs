@@ -25,7 +25,7 @@ fn scene_in(phase: Phase) -> Option<State> {
         })
         .ok()?;
     let path: &[Phase] = match phase {
-        Phase::WaitingForExecution => &[],
+        Phase::Waiting => &[],
         Phase::Running => &[Phase::Running],
         Phase::Aborting => &[Phase::Running, Phase::Aborting],
         Phase::Succeeded | Phase::Failed => return None,

@@ -157,7 +157,7 @@ impl Fault {
                     for entry in scenes(raw) {
                         let cancellable = matches!(
                             entry.pointer("/1/phase").and_then(Value::as_str),
-                            Some("WaitingForExecution" | "Running")
+                            Some("waiting" | "running")
                         );
                         if let (true, Some(decision)) = (cancellable, decision) {
                             set(entry, "/1/operator_decision", json!(decision));

@@ -87,7 +87,7 @@ fn statuses_parse_with_the_field_named() {
         statuses: vec![rtc::CooperateStatus::default(); 2],
     };
     let parsed = array.parse().expect("all zero is valid");
-    assert_eq!(parsed[0].phase, Phase::WaitingForExecution);
+    assert_eq!(parsed[0].phase, Phase::Waiting);
     assert_eq!(parsed[0].module, rtc::ModuleType::None);
     assert_eq!(parsed[0].command, Decision::Deactivate);
     array.statuses[1].state = rtc::State::new(9);

@@ -68,6 +68,13 @@ pub enum ErrorKind {
     },
     /// The line (or configuration file) is not a JSON object.
     NotAnObject,
+    /// A version record with a version this reader does not know.
+    UnknownVersion {
+        /// The version given.
+        given: u64,
+    },
+    /// A version record that is not the trace's first record.
+    MisplacedVersion,
     /// A record with none of `at_ms`, `input`, `observed` and `config`.
     EmptyRecord,
     /// A record with two of `input`, `observed` and `config`, or `config` with another field.
@@ -137,6 +144,13 @@ impl fmt::Display for ErrorKind {
             Self::Json { field, message } if field.is_empty() => f.write_str(message),
             Self::Json { field, message } => write!(f, "field `{field}`: {message}"),
             Self::NotAnObject => f.write_str("not a JSON object (`{...}`)"),
+            Self::UnknownVersion { given } => write!(
+                f,
+                "trace format version {given} is not known; this reader knows versions 1 and 2"
+            ),
+            Self::MisplacedVersion => {
+                f.write_str("a `version` record goes only on the trace's first record")
+            }
             Self::EmptyRecord => {
                 f.write_str("the record has none of `at_ms`, `input`, `observed` and `config`")
             }

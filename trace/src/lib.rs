@@ -31,17 +31,20 @@ mod render;
 mod replay;
 mod strict;
 mod validate;
+mod version;
 
 use std::io::{BufRead, Write};
 
 pub use error::{ErrorKind, TraceError};
 pub use read::{Lines, ReadLimits};
 pub use record::{
-    parse_config, parse_record, parse_status, Event, Observation, Record, MAX_LIMITS,
+    parse_config, parse_record, parse_record_of, parse_status, Event, Observation, Record,
+    MAX_LIMITS,
 };
 pub use render::{scenes_table, step_json, step_text, verdict_json, verdict_text, Printer};
 pub use replay::{Cause, Replayer, Sink, Step};
 pub use validate::{compare, Departure, Difference, Field, Validator, Verdict};
+pub use version::Version;
 
 /// The white space JSON allows between tokens, and the only white space a blank line may
 /// hold: space, tab, carriage return, line feed.
@@ -80,8 +83,18 @@ pub fn run<R: BufRead>(
 ) -> Result<(Replayer, Summary), TraceError> {
     let mut lines = Lines::new(input, options.limits);
     let mut replayer = Replayer::new(options.config.clone())?;
+    // Version 1 until a first record says otherwise.
+    let (mut version, mut first) = (Version::V1, true);
     while let Some((line, text)) = lines.next_line()? {
-        let record = parse_record(line, text)?;
+        let record = parse_record_of(version, line, text)?;
+        if let Record::Version(given) = record {
+            if !first {
+                return Err(TraceError::at(line, ErrorKind::MisplacedVersion));
+            }
+            (version, first) = (given, false);
+            continue;
+        }
+        first = false;
         if replayer.feed(line, record, sink)?.is_break() {
             break;
         }

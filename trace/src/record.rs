@@ -12,6 +12,7 @@ use serde::de::{self, Unexpected, Visitor};
 use serde::{Deserialize, Deserializer};
 
 use crate::json::{from_json, json_error};
+use crate::version::{upgrade_v1, Version};
 use crate::{ErrorKind, TraceError, JSON_SPACE};
 
 /// The largest limits a trace's configuration may ask for. They bound the replayer's memory:
@@ -28,6 +29,9 @@ pub const MAX_LIMITS: Limits = Limits {
 /// One record of a trace.
 #[derive(Clone, PartialEq, Debug)]
 pub enum Record {
+    /// `{"version": 2}`: the format's version, as the first record only; without one a trace
+    /// is version 1 ([`Version`]).
+    Version(Version),
     /// `{"config": …}`: the modules, their default policies and the limits. Only as the first
     /// record.
     Config(Config),
@@ -77,6 +81,8 @@ struct RawRecord {
     factors: Option<FactorKind>,
     #[serde(default, deserialize_with = "present")]
     config: Option<RawConfig>,
+    #[serde(default, deserialize_with = "present")]
+    version: Option<u64>,
 }
 
 /// A configuration as written: policies as a list, limits optional one by one.
@@ -269,7 +275,25 @@ fn within(prefix: &str, kind: ErrorKind) -> ErrorKind {
     }
 }
 
-/// Parses one record line (already trimmed, not blank, not a comment).
+/// Parses one record line (already trimmed, not blank, not a comment) of a trace of
+/// `version`: a version-1 line is read in version 2's words ([`Version`]).
+///
+/// # Errors
+/// A [`TraceError`] naming `line` and the field.
+pub fn parse_record_of(version: Version, line: usize, text: &str) -> Result<Record, TraceError> {
+    match version {
+        Version::V2 => parse_record(line, text),
+        // A version-1 line in version 2's words reads as it is, with the errors of its own
+        // text; only a line with version-1 words is read upgraded.
+        Version::V1 => parse_record(line, text).or_else(|error| match upgrade_v1(text) {
+            Ok(Some(upgraded)) => parse_record(line, &upgraded),
+            Ok(None) | Err(_) => Err(error),
+        }),
+    }
+}
+
+/// Parses one record line (already trimmed, not blank, not a comment) in the current
+/// version's words.
 ///
 /// # Errors
 /// A [`TraceError`] naming `line` and the field.
@@ -282,6 +306,28 @@ pub fn parse_record(line: usize, text: &str) -> Result<Record, TraceError> {
     }
     let raw: RawRecord = from_json(text, true).map_err(at)?;
     let ambiguous = |first, second| at(ErrorKind::Ambiguous { first, second });
+    if let Some(number) = raw.version {
+        let other = match (
+            raw.at_ms,
+            &raw.input,
+            &raw.observed,
+            raw.factors,
+            &raw.config,
+        ) {
+            (None, None, None, None, None) => None,
+            (Some(_), ..) => Some("at_ms"),
+            (_, Some(_), ..) => Some("input"),
+            (_, _, Some(_), ..) => Some("observed"),
+            (.., Some(_), _) => Some("factors"),
+            (.., Some(_)) => Some("config"),
+        };
+        if let Some(other) = other {
+            return Err(ambiguous("version", other));
+        }
+        return Version::from_number(number)
+            .map(Record::Version)
+            .ok_or_else(|| at(ErrorKind::UnknownVersion { given: number }));
+    }
     if let Some(config) = raw.config {
         return match (raw.at_ms, &raw.input, &raw.observed, raw.factors) {
             (Some(_), ..) => Err(ambiguous("config", "at_ms")),
@@ -364,8 +410,16 @@ pub fn parse_config(text: &str) -> Result<Config, TraceError> {
     if !text.trim_start_matches(JSON_SPACE).starts_with('{') {
         return Err(TraceError::nowhere(ErrorKind::NotAnObject));
     }
-    let raw: RawConfig =
-        from_json(text, false).map_err(|kind| TraceError::nowhere(within("config", kind)))?;
+    let read = |text: &str| {
+        from_json::<RawConfig>(text, false)
+            .map_err(|kind| TraceError::nowhere(within("config", kind)))
+    };
+    // A configuration in version-1 words (`"LaneChange"`) is read upgraded, as a version-1
+    // trace's lines are.
+    let raw = read(text).or_else(|error| match upgrade_v1(text) {
+        Ok(Some(upgraded)) => read(&upgraded),
+        Ok(None) | Err(_) => Err(error),
+    })?;
     check_config(raw).map_err(TraceError::nowhere)
 }
 

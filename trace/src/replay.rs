@@ -184,6 +184,8 @@ impl Replayer {
                 return Ok(ControlFlow::Continue(()));
             }
             Record::At { at_ms, event } => (at_ms, event),
+            // The reader ([`crate::run`]) takes the version from the first record.
+            Record::Version(_) => return Err(TraceError::at(line, ErrorKind::MisplacedVersion)),
         };
         if self.state.is_none() {
             return Err(TraceError::at(line, ErrorKind::MissingConfig));

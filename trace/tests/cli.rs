@@ -138,13 +138,13 @@ fn replay_json_is_one_object_per_step() {
     assert_eq!(steps[1]["input"]["Tick"]["elapsed_ms"], 500);
     let scene = |step: usize| &steps[step]["scenes"][0];
     assert_eq!(scene(0)["id"], SCENE);
-    assert_eq!(scene(0)["module_decision"], "Deactivate");
-    assert_eq!(scene(0)["operator_decision"], "Undecided");
+    assert_eq!(scene(0)["module_decision"], "deactivate");
+    assert_eq!(scene(0)["operator_decision"], "none");
     assert_eq!(scene(0)["cancellable"], true);
-    assert_eq!(scene(0)["policy"], "Optional");
-    assert_eq!(scene(0)["merged_decision"], "Deactivate");
-    assert_eq!(scene(2)["operator_decision"], "Activate");
-    assert_eq!(scene(4)["merged_decision"], "Activate");
+    assert_eq!(scene(0)["policy"], "optional");
+    assert_eq!(scene(0)["merged_decision"], "deactivate");
+    assert_eq!(scene(2)["operator_decision"], "activate");
+    assert_eq!(scene(4)["merged_decision"], "activate");
     assert_eq!(scene(4)["force_activated"], true);
     assert_eq!(scene(4)["force_deactivated"], false);
     for step in &steps {
@@ -278,7 +278,7 @@ fn validate_stops_at_the_first_departure() {
 #[test]
 fn malformed_lines_exit_two_naming_line_and_field() {
     let seed = std::fs::read_to_string(data("seed.jsonl")).unwrap();
-    let broken = seed.replacen("\"Deactivate\"", "\"Maybe\"", 1);
+    let broken = seed.replacen("\"deactivate\"", "\"Maybe\"", 1);
     for mode in ["replay", "validate"] {
         let output = run(&[mode, "-"], &broken);
         assert_eq!(output.status.code(), Some(2), "{mode}");

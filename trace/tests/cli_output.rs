@@ -177,7 +177,7 @@ fn messages_about_hostile_input_stay_short() {
 
 #[test]
 fn the_configuration_file_is_bounded_and_checked() {
-    let body = r#"{"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}"#;
+    let body = r#"{"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional"}]}"#;
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"));
     let trace = "{\"at_ms\": 0}\n";
     let at_limit = dir.join("config-at-limit.json");

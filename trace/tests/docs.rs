@@ -107,12 +107,12 @@ fn shown_errors_are_the_errors() {
         .lines()
         .find(|line| line.starts_with("{\"config\""))
         .unwrap();
-    let observed = r#"{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true}"#;
+    let observed = r#"{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "activate", "operator_decision": "none", "cancellable": true}"#;
     let twice = observed.replace("true}", "true, \"cancellable\": false}");
     let mut not_utf8 = seed.clone().into_bytes();
     not_utf8.extend_from_slice(b"{\"at_ms\": 7\xff}\n");
     let traces = [
-        seed.replacen("\"Deactivate\"", "\"Maybe\"", 1).into_bytes(),
+        seed.replacen("\"deactivate\"", "\"Maybe\"", 1).into_bytes(),
         seed.replacen(config, "# no config", 1).into_bytes(),
         format!("{seed}{{\"at_ms\": 599}}\n").into_bytes(),
         format!("{seed}{{\"observed\": [{observed}, {observed}]}}\n").into_bytes(),

@@ -3,15 +3,15 @@
 
 use cooperation_trace::*;
 
-const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}}"#;
+const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional"}]}}"#;
 
 /// A trace that registers one velocity scene at `distance`, its position's `x` at `x`.
 fn trace(distance: &str, x: &str) -> String {
     format!(
         "{CONFIG}\n{{\"input\": {{\"Register\": {{\"id\": \"00000000-0000-0000-0000-000000000001\", \
-         \"module\": {{\"behavior\": \"LaneChange\", \"sequence\": \"Empty\"}}, \"decision\": \"Activate\", \
+         \"module\": {{\"behavior\": \"lane-change\", \"sequence\": \"\"}}, \"decision\": \"activate\", \
          \"geometry\": {{\"Velocity\": {{\"pose\": {{\"position\": [{x}, 0.0, 0.0], \
-         \"orientation\": [0.0, 0.0, 0.0, 1.0]}}, \"distance\": {distance}, \"status\": \"Approaching\"}}}}}}}}}}\n"
+         \"orientation\": [0.0, 0.0, 0.0, 1.0]}}, \"distance\": {distance}, \"status\": \"approaching\"}}}}}}}}}}\n"
     )
 }
 

@@ -8,11 +8,11 @@ use cooperation::{Limits, Rule};
 use cooperation_trace::*;
 use proptest::prelude::*;
 
-const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}}"#;
+const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional"}]}}"#;
 
-const MODULE: &str = r#"{"behavior": "LaneChange", "sequence": "Empty"}"#;
+const MODULE: &str = r#"{"behavior": "lane-change", "sequence": ""}"#;
 
-const GEOMETRY: &str = r#"{"Velocity": {"pose": {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}, "distance": 10.0, "status": "Approaching"}}"#;
+const GEOMETRY: &str = r#"{"Velocity": {"pose": {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}, "distance": 10.0, "status": "approaching"}}"#;
 
 fn uuid(n: u128) -> String {
     cooperation::SceneId::from_u128(n).to_string()
@@ -20,7 +20,7 @@ fn uuid(n: u128) -> String {
 
 fn register(at_ms: u64, n: u128) -> String {
     format!(
-        r#"{{"at_ms": {at_ms}, "input": {{"Register": {{"id": "{}", "module": {MODULE}, "decision": "Activate", "geometry": {GEOMETRY}}}}}}}"#,
+        r#"{{"at_ms": {at_ms}, "input": {{"Register": {{"id": "{}", "module": {MODULE}, "decision": "activate", "geometry": {GEOMETRY}}}}}}}"#,
         uuid(n)
     )
 }
@@ -74,14 +74,14 @@ fn malformed_records_name_line_and_field() {
             "unknown field `inptu`",
         ),
         (
-            r#"{"input": {"Remove": {"id": "nope", "module": {"behavior": "LaneChange", "sequence": "Empty"}}}}"#,
+            r#"{"input": {"Remove": {"id": "nope", "module": {"behavior": "lane-change", "sequence": ""}}}}"#,
             "input.Remove.id",
             "is not a UUID",
         ),
         (
-            r#"{"input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001", "module": {"behavior": "", "sequence": "Empty"}}}}"#,
+            r#"{"input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001", "module": {"behavior": "", "sequence": ""}}}}"#,
             "input.Remove.module.behavior",
-            "unknown variant ``",
+            "\"\" is not a behavior: it is empty",
         ),
         (
             r#"{"input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001"}}}"#,
@@ -94,12 +94,12 @@ fn malformed_records_name_line_and_field() {
             "unknown variant `Yes`",
         ),
         (
-            r#"{"observed": [{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "Activate", "operator_decision": "Undecided"}]}"#,
+            r#"{"observed": [{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "activate", "operator_decision": "none"}]}"#,
             "observed[0]",
             "missing field `cancellable`",
         ),
         (
-            r#"{"observed": [{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": 1}]}"#,
+            r#"{"observed": [{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "activate", "operator_decision": "none", "cancellable": 1}]}"#,
             "observed[0].cancellable",
             "invalid type: integer `1`",
         ),
@@ -124,7 +124,7 @@ fn malformed_records_name_line_and_field() {
 
 #[test]
 fn records_of_the_wrong_shape_are_refused() {
-    let removal = r#""input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001", "module": {"behavior": "LaneChange", "sequence": "Empty"}}}"#;
+    let removal = r#""input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001", "module": {"behavior": "lane-change", "sequence": ""}}}"#;
     for (line, kind) in [
         ("not json", ErrorKind::NotAnObject),
         ("[1, 2]", ErrorKind::NotAnObject),
@@ -164,7 +164,7 @@ fn records_of_the_wrong_shape_are_refused() {
             ErrorKind::MisplacedConfig,
         ),
         (
-            r#"{"observed": [{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true}, {"id": "00000000000000000000000000000001", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true}]}"#,
+            r#"{"observed": [{"id": "00000000-0000-0000-0000-000000000001", "module_decision": "activate", "operator_decision": "none", "cancellable": true}, {"id": "00000000000000000000000000000001", "module_decision": "activate", "operator_decision": "none", "cancellable": true}]}"#,
             ErrorKind::DuplicateObserved {
                 index: 1,
                 id: cooperation::SceneId::from_u128(1),
@@ -183,7 +183,7 @@ fn configurations_are_checked() {
         assert_eq!(error.line, Some(1), "{error}");
         error.kind
     };
-    let lane_change = format!(r#"{{"module": {MODULE}, "policy": "Optional"}}"#);
+    let lane_change = format!(r#"{{"module": {MODULE}, "policy": "optional"}}"#);
     assert_eq!(
         first_line(&config(&format!(
             r#"{{"policies": [{lane_change}, {lane_change}]}}"#
@@ -268,7 +268,7 @@ fn endless_new_identifiers_stay_bounded() {
         max_batch: 4,
     };
     let mut text = format!(
-        r#"{{"config": {{"policies": [{{"module": {MODULE}, "policy": "Required"}}], "limits": {}}}}}"#,
+        r#"{{"config": {{"policies": [{{"module": {MODULE}, "policy": "required"}}], "limits": {}}}}}"#,
         serde_json::to_string(&limits).unwrap()
     );
     text.push('\n');
@@ -283,7 +283,7 @@ fn endless_new_identifiers_stay_bounded() {
         // A flood of commands for identifiers nobody registered, then an over-long batch.
         let commands = |count: u128, from: u128| {
             (from..from + count)
-                .map(|k| format!(r#"{{"id": "{}", "decision": "Activate"}}"#, uuid(k)))
+                .map(|k| format!(r#"{{"id": "{}", "decision": "activate"}}"#, uuid(k)))
                 .collect::<Vec<_>>()
                 .join(", ")
         };
@@ -414,9 +414,9 @@ fn differences_explain_each_field() {
         register(0, 1),
         register(0, 2),
         register(0, 3),
-        status(1, "Deactivate", "Autonomous", false),
-        status(3, "Activate", "Undecided", true),
-        status(4, "Activate", "Undecided", true),
+        status(1, "deactivate", "autonomous", false),
+        status(3, "activate", "none", true),
+        status(4, "activate", "none", true),
     );
     let Verdict::Departs(departure) = validate(text.as_bytes(), &Options::default()).unwrap()
     else {
@@ -476,13 +476,13 @@ fn differences_explain_each_field() {
 /// An observation of one factor list compares only the scenes of that kind.
 #[test]
 fn factor_observations_cover_their_kind_only() {
-    let steering = r#"{"Steering": {"poses": [{"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}, {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}], "distances": [1.0, 2.0], "direction": "Left", "status": "Turning"}}"#;
+    let steering = r#"{"Steering": {"poses": [{"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}, {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}], "distances": [1.0, 2.0], "direction": "left", "status": "turning"}}"#;
     let register_steering = format!(
-        r#"{{"input": {{"Register": {{"id": "{}", "module": {MODULE}, "decision": "Activate", "geometry": {steering}}}}}}}"#,
+        r#"{{"input": {{"Register": {{"id": "{}", "module": {MODULE}, "decision": "activate", "geometry": {steering}}}}}}}"#,
         uuid(2)
     );
     let velocity_status = format!(
-        r#"{{"id": "{}", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true}}"#,
+        r#"{{"id": "{}", "module_decision": "activate", "operator_decision": "none", "cancellable": true}}"#,
         uuid(1)
     );
     let base = format!("{CONFIG}\n{}\n{register_steering}\n", register(0, 1));

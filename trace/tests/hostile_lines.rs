@@ -6,7 +6,7 @@ use std::io::{self, BufReader, Read};
 
 use cooperation_trace::*;
 
-const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}}"#;
+const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional"}]}}"#;
 
 fn replay_text(text: &str) -> Result<Summary, TraceError> {
     replay(text.as_bytes(), io::sink(), &Options::default(), false)
@@ -143,7 +143,7 @@ fn blank_means_json_white_space() {
 
 #[test]
 fn a_configuration_file_reads_like_a_config_line() {
-    let body = r#"{"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}"#;
+    let body = r#"{"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional"}]}"#;
     let plain = parse_config(body).unwrap();
     for text in [
         format!("\u{feff}{body}"),
@@ -332,7 +332,7 @@ fn write_errors_stop_the_replay() {
         }
     }
     // A step, whose report is written: an owner removing a scene it never registered.
-    let removal = r#"{"input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001", "module": {"behavior": "LaneChange", "sequence": "Empty"}}}}"#;
+    let removal = r#"{"input": {"Remove": {"id": "00000000-0000-0000-0000-000000000001", "module": {"behavior": "lane-change", "sequence": ""}}}}"#;
     let text = format!("{CONFIG}\n{removal}\n");
     let error = replay(text.as_bytes(), Full, &Options::default(), true).unwrap_err();
     assert_eq!(

@@ -5,9 +5,9 @@ use std::io;
 
 use cooperation_trace::*;
 
-const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional"}]}}"#;
+const CONFIG: &str = r#"{"config": {"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional"}]}}"#;
 
-const MODULE: &str = r#"{"behavior": "LaneChange", "sequence": "Empty"}"#;
+const MODULE: &str = r#"{"behavior": "lane-change", "sequence": ""}"#;
 
 const POSE: &str = r#"{"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}"#;
 
@@ -49,17 +49,17 @@ fn json_field(error: &TraceError) -> &str {
 
 fn register(geometry: &str) -> String {
     format!(
-        r#"{{"input": {{"Register": {{"id": "{ID}", "module": {MODULE}, "decision": "Activate", "geometry": {geometry}}}}}}}"#
+        r#"{{"input": {{"Register": {{"id": "{ID}", "module": {MODULE}, "decision": "activate", "geometry": {geometry}}}}}}}"#
     )
 }
 
 fn velocity(pose: &str) -> String {
-    format!(r#"{{"Velocity": {{"pose": {pose}, "distance": 10.0, "status": "Approaching"}}}}"#)
+    format!(r#"{{"Velocity": {{"pose": {pose}, "distance": 10.0, "status": "approaching"}}}}"#)
 }
 
 fn status(fields: &str) -> String {
     format!(
-        r#"{{"observed": [{{"id": "{ID}", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true{fields}}}]}}"#
+        r#"{{"observed": [{{"id": "{ID}", "module_decision": "activate", "operator_decision": "none", "cancellable": true{fields}}}]}}"#
     )
 }
 
@@ -102,24 +102,24 @@ fn a_key_given_twice_is_refused_wherever_it_is() {
         ),
         (
             format!(
-                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": {{"behavior": "LaneChange", "behavior": "Merge", "sequence": "Empty"}}}}}}}}"#
+                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": {{"behavior": "lane-change", "behavior": "merge", "sequence": ""}}}}}}}}"#
             ),
             "input.Remove.module.behavior",
         ),
         (
             register(
-                r#"{"Velocity": {"pose": {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0], "position": [1.0, 0.0, 0.0]}, "distance": 10.0, "status": "Approaching"}}"#,
+                r#"{"Velocity": {"pose": {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0], "position": [1.0, 0.0, 0.0]}, "distance": 10.0, "status": "approaching"}}"#,
             ),
             "input.Register.geometry.Velocity.pose.position",
         ),
         (
             format!(
-                r#"{{"input": {{"SetCommands": {{"commands": [{{"id": "{ID}", "decision": "Activate", "decision": "Deactivate"}}]}}}}}}"#
+                r#"{{"input": {{"SetCommands": {{"commands": [{{"id": "{ID}", "decision": "activate", "decision": "deactivate"}}]}}}}}}"#
             ),
             "input.SetCommands.commands[0].decision",
         ),
         (
-            status(r#", "module_decision": "Deactivate""#),
+            status(r#", "module_decision": "deactivate""#),
             "observed[0].module_decision",
         ),
         (
@@ -154,7 +154,7 @@ fn a_key_given_twice_is_refused_wherever_it_is() {
             "config.limits.ttl_ms",
         ),
         (
-            r#"{"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional", "policy": "Required"}]}"#,
+            r#"{"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional", "policy": "required"}]}"#,
             "config.policies[0].policy",
         ),
     ] {
@@ -170,14 +170,14 @@ fn unknown_fields_are_refused_in_inputs() {
     let module = MODULE;
     let update = |extra: &str| {
         format!(
-            r#"{{"input": {{"Update": {{"id": "{ID}", "module": {module}, "phase": "Running", "decision": "Activate", "geometry": {}{extra}}}}}}}"#,
+            r#"{{"input": {{"Update": {{"id": "{ID}", "module": {module}, "phase": "running", "decision": "activate", "geometry": {}{extra}}}}}}}"#,
             velocity(POSE)
         )
     };
     for (line, field) in [
         (
             format!(
-                r#"{{"input": {{"Register": {{"id": "{ID}", "module": {module}, "decision": "Activate", "requsted": true, "geometry": {}}}}}}}"#,
+                r#"{{"input": {{"Register": {{"id": "{ID}", "module": {module}, "decision": "activate", "requsted": true, "geometry": {}}}}}}}"#,
                 velocity(POSE)
             ),
             "input.Register.requsted",
@@ -185,7 +185,7 @@ fn unknown_fields_are_refused_in_inputs() {
         (update(r#", "requsted": true"#), "input.Update.requsted"),
         (
             format!(
-                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": {module}, "phase": "Running"}}}}}}"#
+                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": {module}, "phase": "running"}}}}}}"#
             ),
             "input.Remove.phase",
         ),
@@ -195,7 +195,7 @@ fn unknown_fields_are_refused_in_inputs() {
         ),
         (
             format!(
-                r#"{{"input": {{"SetCommands": {{"commands": [{{"id": "{ID}", "decision": "Activate", "why": "x"}}]}}}}}}"#
+                r#"{{"input": {{"SetCommands": {{"commands": [{{"id": "{ID}", "decision": "activate", "why": "x"}}]}}}}}}"#
             ),
             "input.SetCommands.commands[0].why",
         ),
@@ -205,13 +205,13 @@ fn unknown_fields_are_refused_in_inputs() {
         ),
         (
             format!(
-                r#"{{"input": {{"SetPolicies": {{"policies": [{{"module": {module}, "policy": "Required", "until": 5}}]}}}}}}"#
+                r#"{{"input": {{"SetPolicies": {{"policies": [{{"module": {module}, "policy": "required", "until": 5}}]}}}}}}"#
             ),
             "input.SetPolicies.policies[0].until",
         ),
         (
             format!(
-                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": {{"behavior": "LaneChange", "sequence": "Empty", "name": "x"}}}}}}}}"#
+                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": {{"behavior": "lane-change", "sequence": "", "name": "x"}}}}}}}}"#
             ),
             "input.Remove.module.name",
         ),
@@ -228,13 +228,13 @@ fn unknown_fields_are_refused_in_inputs() {
 fn unknown_fields_are_refused_in_geometry() {
     let steering = |extra: &str| {
         register(&format!(
-            r#"{{"Steering": {{"poses": [{POSE}, {POSE}], "distances": [1.0, 2.0], "direction": "Left", "status": "Turning"{extra}}}}}"#
+            r#"{{"Steering": {{"poses": [{POSE}, {POSE}], "distances": [1.0, 2.0], "direction": "left", "status": "turning"{extra}}}}}"#
         ))
     };
     for (line, field) in [
         (
             register(
-                r#"{"Velocity": {"pose": {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}, "distance": 10.0, "status": "Approaching", "speed": 3.0}}"#,
+                r#"{"Velocity": {"pose": {"position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0]}, "distance": 10.0, "status": "approaching", "speed": 3.0}}"#,
             ),
             "input.Register.geometry.Velocity.speed",
         ),
@@ -262,11 +262,11 @@ fn unknown_fields_are_refused_in_the_configuration_and_observations() {
             "config.limits.ttl",
         ),
         (
-            r#"{"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty"}, "policy": "Optional", "default": true}]}"#,
+            r#"{"policies": [{"module": {"behavior": "lane-change", "sequence": ""}, "policy": "optional", "default": true}]}"#,
             "config.policies[0].default",
         ),
         (
-            r#"{"policies": [{"module": {"behavior": "LaneChange", "sequence": "Empty", "x": 1}, "policy": "Optional"}]}"#,
+            r#"{"policies": [{"module": {"behavior": "lane-change", "sequence": "", "x": 1}, "policy": "optional"}]}"#,
             "config.policies[0].module.x",
         ),
     ] {
@@ -300,7 +300,7 @@ fn unknown_fields_are_refused_in_the_configuration_and_observations() {
     }
     // The fields of a replay's JSON scene are taken, so that its scenes can be pasted in.
     let scene = status(
-        r#", "module": {"behavior": "LaneChange", "sequence": "Empty"}, "phase": "WaitingForExecution", "policy": null, "merged_decision": "Activate", "force_activated": false, "force_deactivated": false"#,
+        r#", "module": {"behavior": "lane-change", "sequence": ""}, "phase": "waiting", "policy": null, "merged_decision": "activate", "force_activated": false, "force_deactivated": false"#,
     );
     let observed = parse_record(2, &scene).expect("a replay's scene is a status");
     assert!(matches!(
@@ -324,12 +324,12 @@ fn an_array_is_not_an_object() {
         ),
         (
             format!(
-                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": ["LaneChange", "Empty"]}}}}}}"#
+                r#"{{"input": {{"Remove": {{"id": "{ID}", "module": ["lane-change", ""]}}}}}}"#
             ),
             "input.Remove.module",
         ),
         (
-            register(&format!(r#"{{"Velocity": [{POSE}, 10.0, "Approaching"]}}"#)),
+            register(&format!(r#"{{"Velocity": [{POSE}, 10.0, "approaching"]}}"#)),
             "input.Register.geometry.Velocity",
         ),
         (
@@ -337,15 +337,15 @@ fn an_array_is_not_an_object() {
             "input.Register.geometry.Velocity.pose",
         ),
         (
-            format!(r#"{{"input": {{"SetCommands": {{"commands": [["{ID}", "Activate"]]}}}}}}"#),
+            format!(r#"{{"input": {{"SetCommands": {{"commands": [["{ID}", "activate"]]}}}}}}"#),
             "input.SetCommands.commands[0]",
         ),
         (
-            format!(r#"{{"input": {{"SetCommands": [[["{ID}", "Activate"]]]}}}}"#),
+            format!(r#"{{"input": {{"SetCommands": [[["{ID}", "activate"]]]}}}}"#),
             "input.SetCommands",
         ),
         (
-            format!(r#"{{"observed": [["{ID}", "Activate", "Undecided", true]]}}"#),
+            format!(r#"{{"observed": [["{ID}", "activate", "none", true]]}}"#),
             "observed[0]",
         ),
         (
@@ -357,7 +357,7 @@ fn an_array_is_not_an_object() {
             "observed[0].cooperator",
         ),
         (
-            format!(r#"{{"input": {{"SetPolicies": {{"policies": [[{MODULE}, "Required"]]}}}}}}"#),
+            format!(r#"{{"input": {{"SetPolicies": {{"policies": [[{MODULE}, "required"]]}}}}}}"#),
             "input.SetPolicies.policies[0]",
         ),
         (
@@ -371,7 +371,7 @@ fn an_array_is_not_an_object() {
         (r#"[[]]"#, "config"),
         (r#"{"policies": [], "limits": [1000]}"#, "config.limits"),
         (
-            r#"{"policies": [[{"behavior": "LaneChange", "sequence": "Empty"}, "Optional"]]}"#,
+            r#"{"policies": [[{"behavior": "lane-change", "sequence": ""}, "optional"]]}"#,
             "config.policies[0]",
         ),
     ] {
@@ -485,7 +485,7 @@ fn field_paths_never_end_in_a_placeholder() {
 #[test]
 fn parse_status_reads_one_status_in_either_form() {
     let core = format!(
-        r#"{{"id": "{ID}", "module_decision": "Activate", "operator_decision": "Undecided", "cancellable": true}}"#
+        r#"{{"id": "{ID}", "module_decision": "activate", "operator_decision": "none", "cancellable": true}}"#
     );
     let wire = r#"{"uuid": {"uuid": "AAAAAAAAAAAAAAAAAAAAAQ=="}, "autonomous": {"decision": 2}, "cooperator": {"decision": 4}, "cancellable": true}"#;
     assert_eq!(parse_status(&core), parse_status(wire));

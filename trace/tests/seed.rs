@@ -133,12 +133,7 @@ fn seed_trace_is_the_design_page_sequence() {
     // 9. The module decision is updated: still the obstacle.
     assert_eq!(
         update_step.input,
-        update(
-            id,
-            Phase::WaitingForExecution,
-            Decision::Deactivate,
-            geometry
-        )
+        update(id, Phase::Waiting, Decision::Deactivate, geometry)
     );
     // 10-11. The merged decision follows the operator: the vehicle changes lanes.
     assert_eq!(updated.merged_decision(id), Some(Decision::Activate));
@@ -162,12 +157,7 @@ fn seed_trace_ends_where_the_core_does() {
             }],
         },
         Input::Tick { elapsed_ms: 100 },
-        update(
-            id,
-            Phase::WaitingForExecution,
-            Decision::Deactivate,
-            geometry,
-        ),
+        update(id, Phase::Waiting, Decision::Deactivate, geometry),
     ] {
         state.apply(&input).unwrap();
     }

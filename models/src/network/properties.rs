@@ -25,7 +25,7 @@ const LATE_NOT_CANCELLABLE: &str =
 /// Whether a scene is cancellable, from the spec's definition (`[COOP-CANCELLABLE.1]`): its
 /// phase is waiting or running.
 fn cancellable(scene: &Scene) -> bool {
-    matches!(scene.phase(), Phase::WaitingForExecution | Phase::Running)
+    matches!(scene.phase(), Phase::Waiting | Phase::Running)
 }
 
 /// Whether `seen`, a status list as a message carries it, is what the library reported of

@@ -34,7 +34,7 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
                 module,
                 report: Report::new(Decision::Activate, velocity).requesting(),
             });
-            for phase in [Phase::WaitingForExecution, Phase::Running] {
+            for phase in [Phase::Waiting, Phase::Running] {
                 inputs.push(Input::Update {
                     id,
                     module,

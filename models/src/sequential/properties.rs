@@ -131,7 +131,7 @@ fn serializes(_: &SequentialModel, step: &Step) -> bool {
         })
         && refused(&|v| {
             let scene = v.get_mut("scenes")?.get_mut(0)?.get_mut(1)?;
-            *scene.get_mut("phase")? = Value::from("Succeeded");
+            *scene.get_mut("phase")? = Value::from("succeeded");
             Some(())
         })
 }
@@ -250,7 +250,7 @@ fn factor_lists_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
 fn force_flags_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
     step.core.scenes().all(|(id, scene)| {
         let (operator, module) = (scene.operator_decision(), scene.module_decision());
-        let cancellable = matches!(scene.phase(), Phase::WaitingForExecution | Phase::Running);
+        let cancellable = matches!(scene.phase(), Phase::Waiting | Phase::Running);
         let activated = cancellable
             && operator == OperatorDecision::Activate
             && (module == Decision::Deactivate || scene.is_requested());
