@@ -32,7 +32,7 @@ fn the_example_file_parses_to_the_projects_defaults() {
     .map(Module::new)
     .collect();
     assert_eq!(
-        config.policies.keys().copied().collect::<Vec<_>>(),
+        config.policies.keys().cloned().collect::<Vec<_>>(),
         expected
     );
     assert!(config.policies.values().all(|p| *p == Policy::Optional));
@@ -47,7 +47,7 @@ fn the_example_file_covers_every_module_the_standard_rtc_bindings_use() {
         .into_iter()
         .map(|binding| binding.module)
         .collect();
-    let configured: BTreeSet<Module> = config.policies.keys().copied().collect();
+    let configured: BTreeSet<Module> = config.policies.keys().cloned().collect();
     assert_eq!(configured, bound);
 }
 

@@ -70,7 +70,7 @@ fn sequence(behavior: Behavior, sequence: Sequence) -> Module {
 
 /// The configuration with these policies and the default limits.
 fn config(policies: &[(Module, Policy)]) -> Config {
-    Config::new(policies.iter().copied())
+    Config::new(policies.iter().cloned())
 }
 
 const POLICIES: &str = "/**.ros__parameters.cooperation.policies";
