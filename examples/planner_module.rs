@@ -1,20 +1,40 @@
 //! A planning module's side of cooperation: open a scene when a decision is needed, report
 //! the module's judgment every planning cycle, drive with the merged decision, publish the
-//! factor streams, and close the scene when done. Run it with
-//! `cargo run --example planner_module`.
+//! factor streams, and close the scene when done. The modules and their default policies come
+//! from a settings file, `examples/planner_module.param.yaml`, one of them a user extension.
+//! Run it with `cargo run --example planner_module`.
 
 use cooperation::{
-    Behavior, Config, Decision, Detail, Direction, Distance, Geometry, Input, Module, Phase,
-    Policy, Pose, Report, Rule, SceneId, Sequence, State, VelocityFactor, VelocityStatus,
+    Behavior, Decision, Detail, Direction, Distance, Geometry, Input, Module, Phase, Policy, Pose,
+    Report, Rule, SceneId, Sequence, State, VelocityFactor, VelocityStatus,
 };
 
+/// The settings file, beside this example.
+const SETTINGS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/examples/planner_module.param.yaml"
+);
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // The caller reads the file; the library only parses its text.
+    let config = cooperation::settings::parse(&std::fs::read_to_string(SETTINGS)?)?;
     let lane_change = Module::new(Behavior::LaneChange);
     let crosswalk = Module::new(Behavior::Crosswalk);
-    let mut state = State::new(Config::new([
-        (lane_change, Policy::Required),
-        (crosswalk, Policy::Required),
-    ]))?;
+    // A behaviour of this planner's own, beside the AD API's.
+    let valet: Module = Module::new("valet-parking".parse()?);
+    for (module, policy) in &config.policies {
+        println!("{module}: {policy} by default");
+    }
+    assert_eq!(config.policies.get(&valet), Some(&Policy::Optional));
+    let mut state = State::new(config)?;
+
+    // A valet-parking scene: the planner holds back until the bay is clear, and says so.
+    state.apply(&Input::Register {
+        id: SceneId::from_u128(0x5cee_0003),
+        module: valet,
+        report: Report::new(Decision::Deactivate, Geometry::velocity(40.0))
+            .with_detail(Detail::new("parking bay occupied")),
+    })?;
 
     // A crosswalk scene, telling the operator why it stops.
     let crossing = SceneId::from_u128(0x5cee_0002);

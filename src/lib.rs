@@ -62,6 +62,9 @@ mod rejection;
 mod ros;
 pub mod rtc;
 mod rule;
+#[cfg(feature = "settings")]
+#[doc = include_str!("../docs/settings.md")]
+pub mod settings;
 mod shared;
 mod state;
 mod table;

@@ -259,8 +259,9 @@ fn lifecycle_table_is_complete_and_matches_the_code() {
     }
 }
 
-/// `Limits::default()` is the spec's §10 table, and the defaults the limits' field docs and
-/// docs/trace-format.md's configuration table repeat are the same numbers.
+/// `Limits::default()` is the spec's §10 table, and the defaults the limits' field docs,
+/// docs/trace-format.md's configuration table and docs/settings.md's layout repeat are the same
+/// numbers.
 #[test]
 fn default_limits_are_the_specs() {
     let number = |text: &str| -> u64 {
@@ -303,6 +304,18 @@ fn default_limits_are_the_specs() {
     })
     .collect();
     assert_eq!(trace_format, code, "docs/trace-format.md");
+    let settings: BTreeMap<String, u64> = table(
+        &read("docs/settings.md"),
+        "| Key (under the node key) | Value | Default |",
+    )
+    .iter()
+    .filter_map(|row| {
+        let key = row[0].trim_matches('`');
+        let name = key.strip_prefix("ros__parameters.cooperation.limits.")?;
+        Some((name.to_owned(), number(&row[2])))
+    })
+    .collect();
+    assert_eq!(settings, code, "docs/settings.md");
     // The field docs: `pub NAME: TYPE,` preceded by a doc comment ending "Default N." or
     // "Default N ms.".
     let source = read("src/state/config.rs");

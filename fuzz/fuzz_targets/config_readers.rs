@@ -10,7 +10,10 @@
 //! `config` line; a refused one names no line, a refused record its own. An accepted record is
 //! an object, never an explicit tick, observes no scene twice, and its `config` reads the same
 //! from a file. A status reads back from its own serde form and, in the core's form, takes a
-//! replay's other scene fields without change and refuses any other field.
+//! replay's other scene fields without change and refuses any other field. A settings file
+//! (`cooperation::settings`) that reads gives a configuration with a module that the core
+//! accepts, written back by `to_yaml` as text that reads the same; one within the trace tool's
+//! limits reads the same under them, and any other is refused there with a line and column.
 #![no_main]
 
 use std::collections::BTreeMap;
@@ -331,4 +334,28 @@ fuzz_target!(|data: &[u8]| {
         assert_eq!(sequence.as_str(), text);
     }
     check_trace(text);
+    check_settings_file(text);
 });
+
+/// A settings file: read, it is a configuration the core accepts, and it round-trips.
+fn check_settings_file(text: &str) {
+    use cooperation::settings;
+    let within = settings::parse_within(text, &MAX_LIMITS);
+    let Ok(config) = settings::parse(text) else {
+        let Err(error) = within else {
+            panic!("parse_within accepts what parse refuses")
+        };
+        assert!(error.line >= 1 && error.column >= 1, "{error}");
+        return;
+    };
+    assert!(!config.policies.is_empty());
+    check_config(&config);
+    assert_eq!(settings::parse(&settings::to_yaml(&config)), Ok(config.clone()));
+    match within {
+        Ok(bounded) => assert_eq!(bounded, config),
+        Err(error) => assert!(
+            matches!(error.kind, settings::SettingsErrorKind::AboveMaximum { .. }),
+            "{error}"
+        ),
+    }
+}

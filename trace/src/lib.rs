@@ -55,8 +55,8 @@ pub(crate) const JSON_SPACE: &[char] = &[' ', '\t', '\r', '\n'];
 pub struct Options {
     /// The bounds on lines.
     pub limits: ReadLimits,
-    /// The configuration, when it comes from outside the trace (a `--config` file); then the
-    /// trace must not have a `config` line.
+    /// The configuration, when it comes from outside the trace (a `--config` or `--settings`
+    /// file); then the trace must not have a `config` line.
     pub config: Option<cooperation::Config>,
 }
 

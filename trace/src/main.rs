@@ -7,12 +7,12 @@ use std::process::ExitCode;
 
 use cooperation_trace::{
     parse_config, replay, validate, verdict_json, verdict_text, ErrorKind, Options, ReadLimits,
-    TraceError, Verdict,
+    TraceError, Verdict, MAX_LIMITS,
 };
 
 const USAGE: &str = "\
-usage: cooperation-trace replay [--json] [--config FILE] TRACE
-       cooperation-trace validate [--json] [--config FILE] TRACE
+usage: cooperation-trace replay [--json] [--config FILE | --settings FILE] TRACE
+       cooperation-trace validate [--json] [--config FILE | --settings FILE] TRACE
 
 TRACE is a JSON-lines trace (docs/trace-format.md), or - for standard input.
 
@@ -24,6 +24,8 @@ validate   replays the inputs and compares every `observed` record with the spec
            involved), or that the trace conforms; --json prints the verdict as JSON.
 --config   the configuration (modules, default policies, limits) as a JSON file, for a trace
            without a `config` line.
+--settings the configuration as a ROS 2 parameter file (docs/settings.md), in place of
+           --config.
 
 exit codes: 0 the trace replayed / conforms; 1 it departs (validate); 2 malformed input,
 an unreadable file, output that cannot be written (standard output closed, a broken pipe) or
@@ -82,8 +84,16 @@ enum Mode {
 struct Args {
     mode: Mode,
     json: bool,
-    config: Option<String>,
+    config: Option<Source>,
     trace: String,
+}
+
+/// Where the configuration comes from, when not from the trace.
+enum Source {
+    /// `--config FILE`: JSON.
+    Json(String),
+    /// `--settings FILE`: a ROS 2 parameter file.
+    Settings(String),
 }
 
 fn parse_args(args: &[String]) -> Result<Args, String> {
@@ -100,11 +110,30 @@ fn parse_args(args: &[String]) -> Result<Args, String> {
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--json" => json = true,
-            "--config" => match args.next() {
-                Some(file) if config.is_none() => config = Some(file.clone()),
-                Some(_) => return Err("--config is given twice".into()),
-                None => return Err("--config needs a file".into()),
-            },
+            option @ ("--config" | "--settings") => {
+                let Some(file) = args.next() else {
+                    return Err(format!("{option} needs a file"));
+                };
+                let source = if option == "--config" {
+                    Source::Json(file.clone())
+                } else {
+                    Source::Settings(file.clone())
+                };
+                config = match (config, source) {
+                    (None, source) => Some(source),
+                    (Some(Source::Json(_)), Source::Json(_)) => {
+                        return Err("--config is given twice".into())
+                    }
+                    (Some(Source::Settings(_)), Source::Settings(_)) => {
+                        return Err("--settings is given twice".into())
+                    }
+                    (Some(_), _) => {
+                        return Err("--config and --settings both give the configuration; \
+                                    give one"
+                            .into())
+                    }
+                };
+            }
             option if option.starts_with("--") => {
                 return Err(format!("unknown option {}", quoted(option)))
             }
@@ -121,8 +150,22 @@ fn parse_args(args: &[String]) -> Result<Args, String> {
     })
 }
 
-/// Reads a configuration file, at most one line's length of the trace.
-fn read_config(path: &str, limit: usize) -> Result<cooperation::Config, String> {
+/// Reads a configuration file (`--config` or `--settings`), at most one line's length of the
+/// trace. A settings file's limits are bounded as a `config` line's are.
+fn read_config(source: &Source, limit: usize) -> Result<cooperation::Config, String> {
+    match source {
+        Source::Json(path) => {
+            parse_config(&read_text(path, limit)?).map_err(|error| format!("{path}: {error}"))
+        }
+        Source::Settings(path) => {
+            cooperation::settings::parse_within(&read_text(path, limit)?, &MAX_LIMITS)
+                .map_err(|error| format!("{path}: {error}"))
+        }
+    }
+}
+
+/// A file's text: UTF-8, at most `limit` bytes.
+fn read_text(path: &str, limit: usize) -> Result<String, String> {
     let file = File::open(path).map_err(|error| format!("{path}: {error}"))?;
     let mut bytes = Vec::new();
     let cap = u64::try_from(limit).unwrap_or(u64::MAX).saturating_add(1);
@@ -132,11 +175,10 @@ fn read_config(path: &str, limit: usize) -> Result<cooperation::Config, String> 
     if bytes.len() > limit {
         return Err(format!("{path}: the file is longer than {limit} bytes"));
     }
-    let text = String::from_utf8(bytes).map_err(|error| {
+    String::from_utf8(bytes).map_err(|error| {
         let offset = error.utf8_error().valid_up_to();
         format!("{path}: the file is not UTF-8 at byte {offset}")
-    })?;
-    parse_config(&text).map_err(|error| format!("{path}: {error}"))
+    })
 }
 
 fn open(path: &str) -> Result<Box<dyn BufRead>, String> {
@@ -175,8 +217,8 @@ fn main() -> ExitCode {
     let limits = ReadLimits::default();
     let config = match args
         .config
-        .as_deref()
-        .map(|path| read_config(path, limits.max_line_bytes))
+        .as_ref()
+        .map(|source| read_config(source, limits.max_line_bytes))
     {
         None => None,
         Some(Ok(config)) => Some(config),
