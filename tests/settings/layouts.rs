@@ -328,3 +328,23 @@ fn extension_names_that_yaml_would_type_round_trip() {
         );
     }
 }
+
+#[test]
+fn a_misspelt_built_in_name_configures_an_extension_and_the_meant_module_is_refused() {
+    let config = settings::parse(&policies(&["        lane-chnage: optional"])).expect("reads");
+    assert!(config
+        .policies
+        .keys()
+        .all(|module| matches!(module.behavior, Behavior::Extension(_))));
+    let mut state = cooperation::State::new(config).expect("valid");
+    let register = cooperation::Input::Register {
+        id: cooperation::SceneId::from_u128(1),
+        module: module(Behavior::LaneChange),
+        report: cooperation::Report::new(
+            cooperation::Decision::Activate,
+            cooperation::Geometry::velocity(1.0),
+        ),
+    };
+    let rejection = state.apply(&register).expect_err("no policy");
+    assert_eq!(rejection.rule(), cooperation::Rule::RegisterModule);
+}
