@@ -6,6 +6,8 @@ use std::process::{Command, Output, Stdio};
 
 use serde_json::Value;
 
+mod settings;
+
 const SCENE: &str = "00000000-0000-0000-0000-000000005678";
 
 fn data(name: &str) -> PathBuf {
