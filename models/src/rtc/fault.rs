@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use cooperation::rtc::Rtc;
+use cooperation::rtc::{Binding, Rtc};
 use cooperation::{
     Command, Decision, Input, Module, OperatorDecision, Rejection, Report, Rule, SceneId, State,
 };
@@ -104,7 +104,7 @@ impl RtcFault {
                 said
             }
             (Self::RemoveCrossesInterface, Call::Remove { interface, id }) => {
-                let module = model.binding(*interface).map(|b| b.module);
+                let module = model.binding(*interface).and_then(Binding::only_module);
                 let result = module
                     .ok_or(Rejection::OwnerUnknown { id: *id })
                     .and_then(|module| core.apply(&Input::Remove { id: *id, module }));

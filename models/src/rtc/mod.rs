@@ -356,14 +356,14 @@ impl RtcModel {
         let mut modules: Vec<Module> = match call {
             Call::AutoMode { interface, .. } => self
                 .binding(*interface)
-                .map(|b| b.module)
                 .into_iter()
+                .flat_map(Binding::modules)
                 .collect(),
             Call::AutoModeWithModule { module, .. } => self
                 .bindings
                 .iter()
                 .filter(|b| cooperation::rtc::Module::from(b.module_type).r#type == *module)
-                .map(|b| b.module)
+                .flat_map(Binding::modules)
                 .collect(),
             _ => Vec::new(),
         };
@@ -386,7 +386,7 @@ impl RtcModel {
         };
         !modules.is_empty()
             && self.bindings.iter().enumerate().all(|(j, binding)| {
-                let expected = if modules.contains(&binding.module) {
+                let expected = if binding.modules().all(|m| modules.contains(&m)) {
                     Some(enable)
                 } else {
                     auto(from, j)

@@ -3,7 +3,7 @@
 //! answers, and reachability of every kind of call's interesting answers and of a few
 //! scenarios, so that a vacuous pass shows.
 
-use cooperation::rtc::{self, CooperateStatus, Kind as BindingKind, Time};
+use cooperation::rtc::{self, Binding, CooperateStatus, Kind as BindingKind, Time};
 use cooperation::{
     Decision, OperatorDecision, Phase, Policy, RetireReason, Rule, Scene, SceneId, State,
 };
@@ -187,7 +187,9 @@ fn auto_mode_is_policy(model: &RtcModel, step: &RtcStep) -> bool {
     let array = step.rtc.auto_mode_status_array(&step.core, STAMP);
     array.statuses.len() == model.bindings().len()
         && model.bindings().iter().enumerate().all(|(at, binding)| {
-            let on = step.core.policy(binding.module) == Some(Policy::Optional);
+            let on = binding
+                .modules()
+                .all(|module| step.core.policy(module) == Some(Policy::Optional));
             let status = rtc::AutoModeStatus {
                 module: binding.module_type.into(),
                 is_auto_mode: on,
@@ -220,7 +222,8 @@ fn starts_in_auto_mode(model: &RtcModel, step: &RtcStep) -> bool {
         || model
             .bindings()
             .iter()
-            .all(|binding| step.core.policy(binding.module) == Some(Policy::Optional))
+            .flat_map(Binding::modules)
+            .all(|module| step.core.policy(module) == Some(Policy::Optional))
 }
 
 /// `check(view, scene, activated)` for every live scene through the interface that owns it.
