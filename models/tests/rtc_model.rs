@@ -181,7 +181,7 @@ fn expected(fault: RtcFault) -> &'static str {
             "COOP-DEV-AUTO-MODE-KEY.1, COOP-DEV-ROUTING.1: an auto-mode switch reaches every interface of its modules and no other"
         }
         RtcFault::RemoveInFirstSequence => {
-            "COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: a status update is refused for its sequence exactly when it states one its interface is not bound to, states none for a new scene of an interface bound to several, or states another than its live scene's; no other call meets the module rule"
+            "COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: an update is refused for its sequence exactly when it is unbound, unstated for a new scene of several, or not its live scene's; no other call meets the module rule"
         }
     }
 }
@@ -242,8 +242,8 @@ fn the_fault_bounds_pass_without_a_fault() {
     assert_eq!(broken(&report), Vec::<&str>::new());
 }
 
-/// Property names are unique (the checker keys discoveries by name) and each names a spec tag
-/// or is a witness.
+/// Property names are unique (the checker keys discoveries by name), each names a spec tag or
+/// is a witness, and each makes a file name.
 #[test]
 fn property_names_are_unique_and_tagged() {
     let names: Vec<&str> = cooperation_models::rtc::properties()
@@ -257,5 +257,8 @@ fn property_names_are_unique_and_tagged() {
             name.starts_with("COOP-") || name.starts_with("witness: "),
             "{name}"
         );
+        // A counterexample is saved under the property's name, with `.json`; a file name has
+        // at most 255 bytes.
+        assert!(name.len() <= 240, "{name} is too long for a file name");
     }
 }

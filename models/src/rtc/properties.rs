@@ -438,7 +438,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
         ("COOP-DEV-EXPIRY.1: a tick reports exactly the scenes that expired", unbroken::<{ Broken::EXPIRY_UNREPORTED.0 }>),
         ("COOP-OWN-REMOVE.1: a clear retires exactly its interface's live scenes and answers them", unbroken::<{ Broken::CLEAR_WRONG.0 }>),
         ("COOP-DEV-CONSTANTS.1: a call is refused for an undefined constant exactly when it carries one, naming the first such field and its value", unbroken::<{ Broken::FIELD_MISNAMED.0 }>),
-        ("COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: a status update is refused for its sequence exactly when it states one its interface is not bound to, states none for a new scene of an interface bound to several, or states another than its live scene's; no other call meets the module rule", unbroken::<{ Broken::SEQUENCE_WRONG.0 }>),
+        ("COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: an update is refused for its sequence exactly when it is unbound, unstated for a new scene of several, or not its live scene's; no other call meets the module rule", unbroken::<{ Broken::SEQUENCE_WRONG.0 }>),
     ]
 }
 
