@@ -7,6 +7,7 @@ use crate::{FactorKind, Module, Phase, Rule, SceneId};
 /// Why an identifier retired. Retired identifiers never become live again (spec §5.1).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum RetireReason {
     /// The owner reported the scene completed.
     Succeeded,

@@ -605,6 +605,15 @@ fn coop_dev_interface_name_1() {
         rtc::Kind::Steering(Direction::Unknown),
     ));
     let mut rtc = rtc::Rtc::new(bindings).expect("distinct names");
+    // Its module (`avoidance`, not a sequence the standard avoidances have) needs a policy.
+    let error = rtc
+        .interface(&mut state, "dynamic_obstacle_avoidance")
+        .expect_err("no policy for its module");
+    assert!(
+        matches!(error, rtc::RtcError::Unconfigured { .. }),
+        "{error:?}"
+    );
+    let mut state = State::new(Config::new(rtc.policies(false))).expect("valid");
     let mut interface = rtc
         .interface(&mut state, "dynamic_obstacle_avoidance")
         .expect("bound now");

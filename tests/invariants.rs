@@ -57,7 +57,7 @@ fn first_scene(value: &mut Value) -> &mut Value {
 fn coop_inv_disjoint_1() {
     let error = refused(|v| {
         let live = v["scenes"][0][0].clone();
-        v["retired"].as_array_mut().expect("list").push(json!([live, {"module": {"behavior": "lane-change", "sequence": ""}, "reason": "Removed"}]));
+        v["retired"].as_array_mut().expect("list").push(json!([live, {"module": {"behavior": "lane-change", "sequence": ""}, "reason": "removed"}]));
         v["retired_order"].as_array_mut().expect("list").push(live);
     });
     assert!(error.contains("COOP-INV-DISJOINT.1"), "{error}");

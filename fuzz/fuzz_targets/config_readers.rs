@@ -5,15 +5,16 @@
 //! same value. A `Config` starts a `State` (and a trace `Replayer`) exactly when `State::new`'s
 //! documented checks pass, else is refused with the `ConfigError` of the first zero limit, and
 //! the state holds the configured policies and limits. Bindings make an `Rtc` exactly when no
-//! name is bound twice, and every binding is then found by its name. A configuration the trace
-//! tool accepts is an object within its limits that the core accepts, and reads the same as a
-//! `config` line; a refused one names no line, a refused record its own. An accepted record is
-//! an object, never an explicit tick, observes no scene twice, and its `config` reads the same
-//! from a file. A status reads back from its own serde form and, in the core's form, takes a
-//! replay's other scene fields without change and refuses any other field. A settings file
-//! (`cooperation::settings`) that reads gives a configuration with a module that the core
-//! accepts, written back by `to_yaml` as text that reads the same; one within the trace tool's
-//! limits reads the same under them, and any other is refused there with a line and column.
+//! name is bound twice and each has a sequence, and every binding is then found by its name. A
+//! configuration the trace tool accepts is an object within its limits that the core accepts,
+//! and reads the same as a `config` line; a refused one names no line, a refused record its
+//! own. An accepted record is an object, never an explicit tick, observes no scene twice, and
+//! its `config` reads the same from a file. A status reads back from its own serde form and, in
+//! the core's form, takes a replay's other scene fields without change and refuses any other
+//! field. A settings file (`cooperation::settings`) that reads gives a configuration with a
+//! module that the core accepts, written back by `to_yaml` as text that reads the same; one
+//! within the trace tool's limits reads the same under them, and any other is refused there
+//! with a line and column.
 #![no_main]
 
 use std::collections::BTreeMap;
@@ -109,32 +110,39 @@ fn check_settings(settings: &[PolicySetting]) {
     }
 }
 
-/// Bindings make an adapter exactly when no name is bound twice.
+/// Bindings make an adapter exactly when no name is bound twice and each has a sequence; else
+/// the first binding that repeats a name or has no sequence is named.
 fn check_bindings(bindings: &[Binding]) {
-    let twice = bindings
-        .iter()
-        .enumerate()
-        .find(|(at, binding)| bindings.iter().take(*at).any(|b| b.name == binding.name));
+    let wrong = bindings.iter().enumerate().find(|(at, binding)| {
+        bindings.iter().take(*at).any(|b| b.name == binding.name) || binding.sequences.is_empty()
+    });
     let made = Rtc::new(bindings.iter().cloned());
-    let rtc = match (made, twice) {
+    let rtc = match (made, wrong) {
         (Ok(rtc), None) => rtc,
-        (Err(RtcError::DuplicateInterface { name }), Some((_, binding))) => {
+        (Err(RtcError::DuplicateInterface { name }), Some((at, binding))) => {
             assert_eq!(name, binding.name);
+            assert!(bindings.iter().take(at).any(|b| b.name == name));
             return;
         }
-        (made, twice) => panic!("made {made:?}, with {twice:?} bound twice"),
+        (Err(RtcError::NoSequence { name }), Some((_, binding))) => {
+            assert_eq!(name, binding.name);
+            assert!(binding.sequences.is_empty());
+            return;
+        }
+        (made, wrong) => panic!("made {made:?}, with {wrong:?} wrong"),
     };
     assert_eq!(rtc.bindings(), bindings);
     for enable_rtc in [false, true] {
         let policies = rtc.policies(enable_rtc);
         assert!(bindings
             .iter()
-            .all(|b| policies.get(&b.module) == Some(&policy_for_auto_mode(!enable_rtc))));
+            .flat_map(Binding::modules)
+            .all(|m| policies.get(&m) == Some(&policy_for_auto_mode(!enable_rtc))));
         assert_eq!(
             policies.len(),
             bindings
                 .iter()
-                .map(|b| b.module)
+                .flat_map(Binding::modules)
                 .collect::<std::collections::BTreeSet<_>>()
                 .len()
         );
@@ -350,7 +358,10 @@ fn check_settings_file(text: &str) {
     };
     assert!(!config.policies.is_empty());
     check_config(&config);
-    assert_eq!(settings::parse(&settings::to_yaml(&config)), Ok(config.clone()));
+    assert_eq!(
+        settings::parse(&settings::to_yaml(&config)),
+        Ok(config.clone())
+    );
     match within {
         Ok(bounded) => assert_eq!(bounded, config),
         Err(error) => assert!(

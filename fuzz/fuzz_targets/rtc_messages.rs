@@ -4,7 +4,8 @@
 //! message (a fixpoint), and parses into core types exactly when its constants are defined, the
 //! error naming the first undefined one. What decodes is then sent to an adapter over the
 //! standard bindings with scenes registered through three interfaces and one retired: a status
-//! (or each of an array's) is `updateCooperateStatus` of the interface its module type names, a
+//! (or each of an array's) is `updateCooperateStatus` of the interface its module type names
+//! (stating the sequence its UUID's last byte picks, where the interface binds several), a
 //! command request both the external `CooperateCommands` and that of the interface its first
 //! command names, an auto-mode request `AutoMode` of the interface the line's length picks or
 //! `AutoModeWithModule`, a bare UUID `removeCooperateStatus` of its owner, a bare `{"type": n}`
@@ -23,7 +24,7 @@ use cooperation::rtc::{
     CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse, CooperateStatus,
     CooperateStatusArray, FieldError, ModuleType, Rtc, RtcError, Time, Uuid,
 };
-use cooperation::{Config, Decision, Limits, Phase, SceneId, State};
+use cooperation::{Config, Decision, Limits, Phase, SceneId, Sequence, State};
 use libfuzzer_sys::fuzz_target;
 use serde::{de::DeserializeOwned, Serialize};
 
@@ -231,6 +232,16 @@ fn check(rtc: &Rtc, state: &State, stamp: Time) {
     check_fixpoint(&auto_modes);
 }
 
+/// The sequence a status states: none through an interface bound to one, else the one its
+/// UUID's last byte picks among the interface's.
+fn sequence_for(rtc: &Rtc, name: &str, uuid: &Uuid) -> Option<Sequence> {
+    let sequences = &rtc.bindings().iter().find(|b| b.name == name)?.sequences;
+    let last = usize::from(*uuid.uuid.last()?);
+    (sequences.len() > 1)
+        .then(|| sequences.iter().nth(last % sequences.len()).copied())
+        .flatten()
+}
+
 /// `updateCooperateStatus` of the interface the status's module type names.
 fn update(rtc: &mut Rtc, state: &mut State, stamp: Time, status: &CooperateStatus) {
     let Some(name) = interface_for(rtc, status.module.r#type) else {
@@ -238,15 +249,28 @@ fn update(rtc: &mut Rtc, state: &mut State, stamp: Time, status: &CooperateStatu
     };
     let id = SceneId::from(status.uuid);
     let terminal = matches!(status.state.phase(), Ok(Phase::Succeeded | Phase::Failed));
+    let sequence = sequence_for(rtc, &name, &status.uuid);
     let updated = call(rtc, state, stamp, |rtc, state| {
-        rtc.interface(state, &name)?.update_cooperate_status(
-            id,
-            status.safe,
-            status.state.r#type,
-            status.start_distance,
-            status.finish_distance,
-            status.requested,
-        )
+        let mut interface = rtc.interface(state, &name)?;
+        match sequence {
+            Some(sequence) => interface.update_cooperate_status_in(
+                id,
+                sequence,
+                status.safe,
+                status.state.r#type,
+                status.start_distance,
+                status.finish_distance,
+                status.requested,
+            ),
+            None => interface.update_cooperate_status(
+                id,
+                status.safe,
+                status.state.r#type,
+                status.start_distance,
+                status.finish_distance,
+                status.requested,
+            ),
+        }
     });
     if updated.is_some() {
         let Ok(view) = rtc.view(state, &name) else {

@@ -89,6 +89,7 @@ fn run_rtc(options: &Options) -> Result<bool, String> {
     } = options.bounds;
     let bounds = RtcBounds {
         interfaces,
+        first_interface: options.first_interface,
         scenes,
         live,
         retired,

@@ -6,6 +6,7 @@
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
 //!                            [--table adaptive|hashed] [--keep-stalled]
+//! cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I] ...
 //! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--scenes N] ...
 //! cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
@@ -49,6 +50,7 @@ const USAGE: &str = "usage:
                              [--timeout SECONDS] [--summary] [--keep-going]
                              [--memory-gib G] [--max-states N] [--table adaptive|hashed]
                              [--depth STEPS] [--keep-stalled]
+  cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I] ...
   cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
                              [--scenes N] [--threads T] [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
@@ -76,7 +78,10 @@ that changes nothing ends a path, and all such ends that fired one rule count as
 model (breadth first) defaults to 2 scene identifiers, 2 operators and --views ids: status
 messages tell operators which scenes exist; --views statuses makes them carry the library's
 whole statuses, decisions included, and lets owners abort a scene (complete for --operators 1;
-with 2 operators it outgrows memory). The check stops at the first violated
+with 2 operators it outgrows memory). The rtc model's --modules is its number of interfaces,
+taken in order from lane_change_left, lane_change_right, intersection,
+static_obstacle_avoidance_left and static_obstacle_avoidance_right, from position
+--first-interface (default 0; 3 for the avoidances). The check stops at the first violated
 `always` property (--keep-going collects every violation), and stops incomplete, with a
 report and exit status 1, when the process reaches 16 GiB resident (--memory-gib) or 400
 million distinct states (--max-states), or the time limit. simulate takes one random walk of
@@ -112,6 +117,7 @@ pub(crate) struct Options {
     pub(crate) summary: bool,
     pub(crate) bytes: usize,
     pub(crate) operators: usize,
+    pub(crate) first_interface: usize,
     pub(crate) views: Views,
     pub(crate) seeds: std::ops::Range<u64>,
     pub(crate) write: Option<PathBuf>,
@@ -137,6 +143,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut keep_stalled = false;
     let mut bytes = reach::TRIVIAL.bytes;
     let mut operators = cooperation_models::network::OPERATORS;
+    let mut first_interface = 0;
     let mut views = Views::Identifiers;
     let mut seeds = 0..100;
     let (mut write, mut against) = (None, None);
@@ -190,6 +197,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--against" => against = Some(PathBuf::from(value)),
             "--bytes" => bytes = number()?,
             "--operators" => operators = number()?,
+            "--first-interface" => first_interface = number()?,
             "--views" => {
                 views = match value.as_str() {
                     "ids" => Views::Identifiers,
@@ -261,6 +269,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         summary,
         bytes,
         operators,
+        first_interface,
         views,
         seeds,
         write,

@@ -112,7 +112,8 @@ fn sequential() {
 /// The RTC adapter model, two interfaces, two identifiers both live at once; and with four
 /// identifiers, one live and a retired set of one, so that the core forgets and the adapter
 /// must prune its routes to stay within its bound (breadth first, without symmetry: the
-/// retirement order matters).
+/// retirement order matters); and the avoidance, bound to two sequences, with two identifiers
+/// live at once.
 #[test]
 fn rtc() {
     let bounds = RtcBounds {
@@ -143,6 +144,23 @@ fn rtc() {
         Stop::first_violation(),
         &[
             "COOP-OWN-REMOVE.1: a clear retires two scenes",
+            "witness: two interfaces have live scenes at once",
+        ],
+    );
+    let avoidance = RtcBounds {
+        live: 2,
+        ..RtcBounds::new(1, 2).from_interface(cooperation_models::rtc::AVOIDANCE)
+    };
+    let model = RtcModel::new(avoidance).expect("valid");
+    satisfied(
+        &model,
+        SETTINGS,
+        Stop::first_violation(),
+        &[
+            "COOP-DEV-ID-REUSE.1: an update of another interface's scene is refused",
+            "COOP-REG-FULL.1: an update beyond the scene limit is refused",
+            "COOP-DEV-ID-REUSE.1: a removal of another interface's scene is refused",
+            "COOP-DEV-ID-REUSE.1: an interface's command for another interface's scene is refused",
             "witness: two interfaces have live scenes at once",
         ],
     );

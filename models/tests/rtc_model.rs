@@ -5,6 +5,7 @@
 //! The pinned counts are the model's, not targets: if one moves, find out why before changing
 //! it (see docs/verification.md).
 
+use cooperation_models::rtc::AVOIDANCE;
 use cooperation_models::run::{check, shortest, Report, Settings, Strategy};
 use cooperation_models::{RtcBounds, RtcFault, RtcModel, Trace};
 use stateright::Expectation;
@@ -85,10 +86,8 @@ fn three_interfaces_two_scenes() {
 #[test]
 fn two_interfaces_two_scenes_without_symmetry() {
     let bounds = RtcBounds {
-        interfaces: 2,
-        scenes: 2,
         live: 2,
-        retired: 2,
+        ..RtcBounds::new(2, 2)
     };
     let dfs = run(bounds, 1, Strategy::Dfs, false);
     let bfs = run(bounds, 1, Strategy::Bfs, false);
@@ -109,13 +108,55 @@ fn two_interfaces_two_scenes_without_symmetry() {
 #[test]
 fn forgetting_retired_identifiers() {
     let bounds = RtcBounds {
-        interfaces: 2,
-        scenes: 4,
         live: 1,
         retired: 1,
+        ..RtcBounds::new(2, 4)
     };
     let report = run(bounds, 2, Strategy::Bfs, false);
     assert_eq!(broken(&report), Vec::<&str>::new());
+}
+
+/// One avoidance interface, bound to `avoidance/change` and `avoidance/return`, and two
+/// identifiers both live at once: the owner states each scene's sequence (or, wrongly, none, or
+/// one the interface is not bound to), the AD API sets either sequence's policy, so a change
+/// and a return live side by side under different policies, and every status, query and
+/// auto-mode switch must follow each scene's own module. Everything is reachable but what
+/// needs a second interface or a scene limit below the identifiers.
+#[test]
+fn avoidance_change_and_return() {
+    let bounds = RtcBounds {
+        live: 2,
+        ..RtcBounds::new(1, 2).from_interface(AVOIDANCE)
+    };
+    let report = run(bounds, 2, Strategy::Dfs, true);
+    assert_eq!(
+        unsatisfied(&report),
+        [
+            "COOP-DEV-ID-REUSE.1: an update of another interface's scene is refused",
+            "COOP-REG-FULL.1: an update beyond the scene limit is refused",
+            "COOP-DEV-ID-REUSE.1: a removal of another interface's scene is refused",
+            "COOP-DEV-ID-REUSE.1: an interface's command for another interface's scene is refused",
+            "witness: two interfaces have live scenes at once",
+        ]
+    );
+    assert_eq!(report.unique, 363_472);
+}
+
+/// Both avoidance interfaces, which share their two modules, so only the routes keep their
+/// scenes apart, whatever sequence a report states; one scene live at a time.
+#[test]
+fn two_avoidance_interfaces() {
+    let bounds = RtcBounds::new(2, 2).from_interface(AVOIDANCE);
+    let report = run(bounds, 2, Strategy::Dfs, true);
+    assert_eq!(
+        unsatisfied(&report),
+        [
+            "COOP-OWN-REMOVE.1: a clear retires two scenes",
+            "witness: two interfaces have live scenes at once",
+            "witness: one interface has live scenes of two modules under different policies",
+        ]
+    );
+    assert_eq!(report.unique, 317_268);
 }
 
 /// The property each fault must break.
@@ -130,18 +171,32 @@ fn expected(fault: RtcFault) -> &'static str {
         RtcFault::StoredCommandReapplies => {
             "COOP-DEV-STORED-COMMANDS.1, COOP-DEV-NONE.1: a new scene starts with no operator decision"
         }
-        RtcFault::RejectionDropped => {
-            "COOP-DEV-SILENT-DROP.1, COOP-DEV-REGISTER-PHASE.1: an accepted status update or removal leaves the scene as reported"
+        RtcFault::RejectionDropped | RtcFault::SequenceIgnored => {
+            "COOP-DEV-SILENT-DROP.1, COOP-DEV-REGISTER-PHASE.1, COOP-DEV-SEQUENCE.1: an accepted status update or removal leaves the scene as reported, in the module its sequence names"
         }
         RtcFault::RefusalHalfApplies => {
             "COOP-DEV-SILENT-DROP.1: a refused call changes nothing (the state after it equals the state before)"
         }
+        RtcFault::AutoModeOneSequence => {
+            "COOP-DEV-AUTO-MODE-KEY.1, COOP-DEV-ROUTING.1: an auto-mode switch reaches every interface of its modules and no other"
+        }
+        RtcFault::RemoveInFirstSequence => {
+            "COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: an update is refused for its sequence exactly when it is unbound, unstated for a new scene of several, or not its live scene's; no other call meets the module rule"
+        }
     }
 }
 
-/// The bounds the faults are checked at.
-fn small() -> RtcBounds {
-    RtcBounds::new(2, 2)
+/// The bounds the faults are checked at: the two lane changes, or, for a fault that only an
+/// interface bound to several sequences can show, the avoidance with two scenes live.
+fn small(fault: Option<RtcFault>) -> RtcBounds {
+    if fault.is_some_and(RtcFault::needs_sequences) {
+        RtcBounds {
+            live: 2,
+            ..RtcBounds::new(1, 2).from_interface(AVOIDANCE)
+        }
+    } else {
+        RtcBounds::new(2, 2)
+    }
 }
 
 /// The counterexample replays to the violation from its JSON, and the same calls pass on the
@@ -169,7 +224,9 @@ fn replays(fault: RtcFault, trace: &Trace) {
 fn every_fault_is_caught_with_a_replayable_counterexample() {
     for fault in RtcFault::ALL {
         let property = expected(fault);
-        let model = RtcModel::new(small()).expect("valid").with_fault(fault);
+        let model = RtcModel::new(small(Some(fault)))
+            .expect("valid")
+            .with_fault(fault);
         let trace = shortest(&model, property)
             .unwrap_or_else(|| panic!("{fault:?} went unnoticed by {property:?}"));
         replays(fault, &trace);
@@ -178,14 +235,15 @@ fn every_fault_is_caught_with_a_replayable_counterexample() {
 }
 
 /// The fault bounds break no safety property without a fault: the faults, not the bounds, fail.
+/// (The avoidance's bounds are checked whole by `avoidance_change_and_return`.)
 #[test]
 fn the_fault_bounds_pass_without_a_fault() {
-    let report = run(small(), 2, Strategy::Dfs, true);
+    let report = run(small(None), 2, Strategy::Dfs, true);
     assert_eq!(broken(&report), Vec::<&str>::new());
 }
 
-/// Property names are unique (the checker keys discoveries by name) and each names a spec tag
-/// or is a witness.
+/// Property names are unique (the checker keys discoveries by name), each names a spec tag or
+/// is a witness, and each makes a file name.
 #[test]
 fn property_names_are_unique_and_tagged() {
     let names: Vec<&str> = cooperation_models::rtc::properties()
@@ -199,5 +257,8 @@ fn property_names_are_unique_and_tagged() {
             name.starts_with("COOP-") || name.starts_with("witness: "),
             "{name}"
         );
+        // A counterexample is saved under the property's name, with `.json`; a file name has
+        // at most 255 bytes.
+        assert!(name.len() <= 240, "{name} is too long for a file name");
     }
 }

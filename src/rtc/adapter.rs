@@ -63,13 +63,19 @@ impl Rtc {
     /// Interfaces with these bindings.
     ///
     /// # Errors
-    /// [`RtcError::DuplicateInterface`] if two bindings have the same name.
+    /// [`RtcError::DuplicateInterface`] if two bindings have the same name;
+    /// [`RtcError::NoSequence`] if a binding has no sequence.
     pub fn new(bindings: impl IntoIterator<Item = Binding>) -> Result<Self, RtcError> {
         let bindings: Vec<Binding> = bindings.into_iter().collect();
         let mut names = BTreeSet::new();
         for binding in &bindings {
             if !names.insert(binding.name.as_str()) {
                 return Err(RtcError::DuplicateInterface {
+                    name: binding.name.clone(),
+                });
+            }
+            if binding.sequences.is_empty() {
+                return Err(RtcError::NoSequence {
                     name: binding.name.clone(),
                 });
             }
@@ -95,14 +101,15 @@ impl Rtc {
         &self.bindings
     }
 
-    /// Every bound core module with the policy upstream's `enable_rtc` flag stands for: `false`
-    /// (auto mode on) is `optional`, `true` is `required`. For
-    /// [`Config::new`](crate::Config::new).
+    /// Every bound core module (each sequence of each binding) with the policy upstream's
+    /// `enable_rtc` flag stands for: `false` (auto mode on) is `optional`, `true` is `required`.
+    /// For [`Config::new`](crate::Config::new).
     #[must_use]
     pub fn policies(&self, enable_rtc: bool) -> BTreeMap<Module, Policy> {
         self.bindings
             .iter()
-            .map(|binding| (binding.module, policy_for_auto_mode(!enable_rtc)))
+            .flat_map(Binding::modules)
+            .map(|module| (module, policy_for_auto_mode(!enable_rtc)))
             .collect()
     }
 
@@ -110,7 +117,7 @@ impl Rtc {
     ///
     /// # Errors
     /// [`RtcError::UnknownInterface`] if no binding has the name (`[COOP-DEV-INTERFACE-NAME.1]`);
-    /// [`RtcError::Unconfigured`] if the core has no policy for its module.
+    /// [`RtcError::Unconfigured`] if the core has no policy for one of its modules.
     pub fn interface<'a>(
         &'a mut self,
         state: &'a mut crate::State,
@@ -190,7 +197,8 @@ impl Rtc {
 
     /// The external API's `AutoModeWithModule` (upstream `/api/external/set/rtc_auto_mode`):
     /// the auto-mode switch of every interface whose statuses carry this module type, as the
-    /// policies of their core modules (`[COOP-DEV-ROUTING.1]`, `[COOP-DEV-AUTO-MODE-KEY.1]`).
+    /// policies of their core modules, every sequence of each (`[COOP-DEV-ROUTING.1]`,
+    /// `[COOP-DEV-AUTO-MODE-KEY.1]`, `[COOP-DEV-SEQUENCE.1]`).
     pub fn auto_mode_with_module(
         &mut self,
         state: &mut crate::State,
@@ -205,7 +213,7 @@ impl Rtc {
                     .bindings
                     .iter()
                     .filter(|binding| binding.module_type == module_type)
-                    .map(|binding| binding.module)
+                    .flat_map(Binding::modules)
                     .collect();
                 if modules.is_empty() {
                     return Err(RtcError::NoInterface {
@@ -260,7 +268,7 @@ impl Rtc {
     }
 }
 
-/// The binding named `name`, with its index, if the core has a policy for its module.
+/// The binding named `name`, with its index, if the core has a policy for each of its modules.
 fn find<'b>(
     bindings: &'b [Binding],
     state: &crate::State,
@@ -274,10 +282,13 @@ fn find<'b>(
         .ok_or_else(|| RtcError::UnknownInterface {
             name: name.to_owned(),
         })?;
-    if state.policy(binding.module).is_none() {
+    if let Some(module) = binding
+        .modules()
+        .find(|module| state.policy(*module).is_none())
+    {
         return Err(RtcError::Unconfigured {
             name: binding.name.clone(),
-            module: binding.module,
+            module,
         });
     }
     Ok((index, binding))
@@ -386,10 +397,14 @@ fn cooperate_status(
     }
 }
 
+/// An interface's auto-mode status: on when every one of its modules' policies is optional, so
+/// that each of its scenes may proceed without the operator (`[COOP-DEV-SEQUENCE.1]`).
 fn auto_mode_status(binding: &Binding, state: &crate::State) -> AutoModeStatus {
     AutoModeStatus {
         module: binding.module_type.into(),
-        is_auto_mode: state.policy(binding.module) == Some(Policy::Optional),
+        is_auto_mode: binding
+            .modules()
+            .all(|module| state.policy(module) == Some(Policy::Optional)),
     }
 }
 

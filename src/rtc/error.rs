@@ -3,7 +3,7 @@
 
 use core::fmt;
 
-use crate::{Phase, Rejection, SceneId};
+use crate::{Module, Phase, Rejection, SceneId};
 
 use super::ModuleType;
 use crate::ros::path::{FieldPath, PathSegment};
@@ -73,13 +73,39 @@ pub enum RtcError {
         /// The name.
         name: String,
     },
-    /// The binding's module has no cooperation policy in the core, so none of its scenes
-    /// could register.
+    /// A binding has no sequence, so its scenes could belong to no module.
+    NoSequence {
+        /// The interface name.
+        name: String,
+    },
+    /// A module of the binding has no cooperation policy in the core, so its scenes could not
+    /// register.
     Unconfigured {
         /// The interface name.
         name: String,
-        /// Its module.
-        module: crate::Module,
+        /// The first of its modules without a policy.
+        module: Module,
+    },
+    /// The owner stated a sequence the interface does not bind: its scenes cannot belong to that
+    /// module (`[COOP-DEV-SEQUENCE.1]`). Nothing changed.
+    UnboundSequence {
+        /// The interface name.
+        name: String,
+        /// The module the stated sequence makes.
+        module: Module,
+        /// The modules the interface binds.
+        bound: Vec<Module>,
+    },
+    /// A scene that is not registered reported without a sequence through an interface that
+    /// binds several, so its module is unknown: the owner must state it
+    /// (`[COOP-DEV-SEQUENCE.1]`). Nothing was registered.
+    SequenceUnstated {
+        /// The scene.
+        id: SceneId,
+        /// The interface name.
+        name: String,
+        /// The modules the interface binds.
+        bound: Vec<Module>,
     },
     /// No interface reports this module type, so an auto-mode request for it reaches nothing
     /// (`[COOP-DEV-ROUTING.1]`).
@@ -146,9 +172,27 @@ impl fmt::Display for RtcError {
             Self::DuplicateInterface { name } => {
                 write!(f, "the RTC interface name {name:?} is bound twice")
             }
+            Self::NoSequence { name } => {
+                write!(f, "the RTC interface {name:?} is bound to no sequence")
+            }
             Self::Unconfigured { name, module } => write!(
                 f,
                 "RTC interface {name:?} is bound to module {module}, which has no cooperation policy"
+            ),
+            Self::UnboundSequence {
+                name,
+                module,
+                bound,
+            } => write!(
+                f,
+                "RTC interface {name:?} has no scenes of {module}, only of {}",
+                Modules(bound)
+            ),
+            Self::SequenceUnstated { id, name, bound } => write!(
+                f,
+                "scene {id} is not registered, and RTC interface {name:?} has scenes of {}: \
+                 state its sequence",
+                Modules(bound)
             ),
             Self::NoInterface { module } => {
                 write!(f, "no RTC interface reports module type {module}")
@@ -179,6 +223,22 @@ impl fmt::Display for RtcError {
             ),
             Self::Core(rejection) => rejection.fmt(f),
         }
+    }
+}
+
+/// A list of modules in words: `a`, `a or b`, `a, b or c`.
+struct Modules<'a>(&'a [Module]);
+
+impl fmt::Display for Modules<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let last = self.0.len().saturating_sub(1);
+        for (at, module) in self.0.iter().enumerate() {
+            if at > 0 {
+                f.write_str(if at == last { " or " } else { ", " })?;
+            }
+            module.fmt(f)?;
+        }
+        Ok(())
     }
 }
 

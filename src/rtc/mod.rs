@@ -8,8 +8,8 @@
 //!
 //! | RTC | Core |
 //! |---|---|
-//! | interface name | a [`Binding`]: core [`Module`](crate::Module) and factor [`Kind`] |
-//! | `updateCooperateStatus` for a new UUID | `Register` (then `Update` if the state is not waiting) |
+//! | interface name | a [`Binding`]: a behaviour, the sequences its scenes may have (each a core [`Module`](crate::Module)), and the factor [`Kind`] |
+//! | `updateCooperateStatus` for a new UUID | `Register` in the interface's module, or in the one its sequence names ([`Interface::update_cooperate_status_in`]) (then `Update` if the state is not waiting) |
 //! | `updateCooperateStatus` | `Update`: `safe` ↦ module decision, `state` ↦ phase, distances ↦ geometry, `requested` |
 //! | `removeCooperateStatus`, `clearCooperateStatus` | `Remove` |
 //! | `removeExpiredCooperateStatus` | `Tick` ([`Rtc::tick`]) |

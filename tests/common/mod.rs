@@ -268,13 +268,20 @@ pub fn factor_listed_before(
     spec_distance_order(a.0 .0, b.0 .0).then(tie).is_lt()
 }
 
-/// Registers scene `n` through the RTC interface `name`: safe, waiting, its section starting
-/// at `start` and ending at 90 m.
+/// Registers scene `n` through the RTC interface `name`, in the first sequence it binds (an
+/// avoidance's shift out): safe, waiting, its section starting at `start` and ending at 90 m.
 pub fn rtc_register_at(rtc: &mut rtc::Rtc, state: &mut State, name: &str, n: u128, start: f32) {
+    let sequence = rtc
+        .bindings()
+        .iter()
+        .find(|binding| binding.name == name)
+        .and_then(|binding| binding.sequences.first().copied())
+        .expect("bound");
     rtc.interface(state, name)
         .expect("bound")
-        .update_cooperate_status(
+        .update_cooperate_status_in(
             id(n),
+            sequence,
             true,
             rtc::State::WAITING_FOR_EXECUTION,
             start,

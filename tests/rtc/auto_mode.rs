@@ -92,8 +92,9 @@ fn requested_scenes_and_the_force_flags() {
         .interface(&mut fx.state, "static_obstacle_avoidance_left")
         .expect("bound");
     interface
-        .update_cooperate_status(
+        .update_cooperate_status_in(
             id(1),
+            Sequence::Change,
             true,
             rtc::State::WAITING_FOR_EXECUTION,
             3.0,

@@ -12,6 +12,7 @@ mod checks;
 mod commands;
 mod lifecycle;
 mod messages;
+mod sequences;
 mod statuses;
 mod upstream;
 

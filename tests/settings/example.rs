@@ -14,23 +14,26 @@ fn read(path: &str) -> String {
 #[test]
 fn the_example_file_parses_to_the_projects_defaults() {
     let config = settings::parse(&read("config/cooperation.param.yaml")).expect("it parses");
-    let expected: Vec<Module> = [
-        Behavior::Avoidance,
-        Behavior::Crosswalk,
-        Behavior::GoalPlanner,
-        Behavior::Intersection,
-        Behavior::LaneChange,
-        Behavior::NoStoppingArea,
-        Behavior::RearCheck,
-        Behavior::Roundabout,
-        Behavior::StartPlanner,
-        Behavior::TrafficSignal,
-        Behavior::UserDefinedAttentionArea,
-        Behavior::VirtualTrafficLight,
-    ]
-    .into_iter()
-    .map(Module::new)
-    .collect();
+    let avoidance = |sequence| Module::with_sequence(Behavior::Avoidance, sequence);
+    let expected: Vec<Module> = [avoidance(Sequence::Change), avoidance(Sequence::Return)]
+        .into_iter()
+        .chain(
+            [
+                Behavior::Crosswalk,
+                Behavior::GoalPlanner,
+                Behavior::Intersection,
+                Behavior::LaneChange,
+                Behavior::NoStoppingArea,
+                Behavior::RearCheck,
+                Behavior::Roundabout,
+                Behavior::StartPlanner,
+                Behavior::TrafficSignal,
+                Behavior::UserDefinedAttentionArea,
+                Behavior::VirtualTrafficLight,
+            ]
+            .map(Module::new),
+        )
+        .collect();
     assert_eq!(
         config.policies.keys().cloned().collect::<Vec<_>>(),
         expected
@@ -45,7 +48,7 @@ fn the_example_file_covers_every_module_the_standard_rtc_bindings_use() {
     let config = settings::parse(&read("config/cooperation.param.yaml")).unwrap();
     let bound: BTreeSet<Module> = rtc::Binding::standard()
         .into_iter()
-        .map(|binding| binding.module)
+        .flat_map(|binding| binding.modules().collect::<Vec<_>>())
         .collect();
     let configured: BTreeSet<Module> = config.policies.keys().cloned().collect();
     assert_eq!(configured, bound);

@@ -1,17 +1,17 @@
 //! Versions of the trace format, and reading a version-1 line.
 //!
 //! Version 2 writes the spec's and the AD API's words for every value (`"lane-change"`, `""`,
-//! `"activate"`, `"none"`, `"waiting"`, `"optional"`, `"left"`); version 1 wrote the library's
-//! Rust variant names (`"LaneChange"`, `"Empty"`, `"Activate"`, `"Undecided"`,
-//! `"WaitingForExecution"`, `"Optional"`, `"Left"`). Nothing else differs. A trace is
-//! version 1 unless its first record is `{"version": 2}`.
+//! `"activate"`, `"none"`, `"waiting"`, `"optional"`, `"left"`, `"removed"`); version 1 wrote
+//! the library's Rust variant names (`"LaneChange"`, `"Empty"`, `"Activate"`, `"Undecided"`,
+//! `"WaitingForExecution"`, `"Optional"`, `"Left"`, `"Removed"`). Nothing else differs. A
+//! trace is version 1 unless its first record is `{"version": 2}`.
 
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
 use cooperation::{
-    Behavior, Decision, Direction, OperatorDecision, Phase, Policy, Sequence, SteeringStatus,
-    VelocityStatus,
+    Behavior, Decision, Direction, OperatorDecision, Phase, Policy, RetireReason, Sequence,
+    SteeringStatus, VelocityStatus,
 };
 use serde::Serialize;
 use serde_json::Value;
@@ -92,6 +92,12 @@ fn words() -> &'static BTreeMap<String, String> {
                 VelocityStatus::Stopped,
             ]),
             pairs(&[SteeringStatus::Approaching, SteeringStatus::Turning]),
+            pairs(&[
+                RetireReason::Succeeded,
+                RetireReason::Failed,
+                RetireReason::Removed,
+                RetireReason::Expired,
+            ]),
             pairs(&[
                 Direction::Unknown,
                 Direction::Left,

@@ -2,7 +2,7 @@
 //! once and indexed by position.
 
 use cooperation::rtc::{self, Binding, CooperateCommand, CooperateCommandsRequest, Time};
-use cooperation::SceneId;
+use cooperation::{Module, Policy, SceneId, Sequence};
 use serde::{Deserialize, Serialize};
 
 use crate::describe::short;
@@ -36,13 +36,16 @@ pub struct Order {
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(tag = "call", rename_all = "snake_case")]
 pub enum Call {
-    /// `Interface::update_cooperate_status`, with the distances [`START_DISTANCE`] and
-    /// [`FINISH_DISTANCE`].
+    /// `Interface::update_cooperate_status`, or `update_cooperate_status_in` with a sequence,
+    /// with the distances [`START_DISTANCE`] and [`FINISH_DISTANCE`].
     Update {
         /// The interface.
         interface: usize,
         /// The scene.
         id: SceneId,
+        /// The sequence the owner states, if any.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        sequence: Option<Sequence>,
         /// The module's judgment.
         safe: bool,
         /// The `State` value reported.
@@ -86,6 +89,14 @@ pub enum Call {
     },
     /// `Rtc::tick` by one millisecond, the model's time-to-live.
     Tick,
+    /// The AD API's `set_policies` for one module (`State::set_policies`): an operator setting
+    /// one sequence's policy beside the adapter.
+    SetPolicy {
+        /// The module.
+        module: Module,
+        /// Its policy.
+        policy: Policy,
+    },
 }
 
 impl Call {
@@ -98,7 +109,7 @@ impl Call {
             | Self::Clear { interface }
             | Self::AutoMode { interface, .. } => Some(*interface),
             Self::Commands { interface, .. } => *interface,
-            Self::AutoModeWithModule { .. } | Self::Tick => None,
+            Self::AutoModeWithModule { .. } | Self::Tick | Self::SetPolicy { .. } => None,
         }
     }
 }
@@ -124,9 +135,12 @@ pub fn request(orders: &[Order]) -> CooperateCommandsRequest {
 /// any identifier is read), so that symmetry reduction is sound.
 ///
 /// Per interface and identifier: status updates reporting each state, safe and unsafe for the
-/// live states, requested while waiting or running; removal. Per interface: an undefined
+/// live states, requested while waiting or running, stating no sequence and, through an
+/// interface bound to several, each of its sequences; removal. Per interface: an undefined
 /// state, a clear, commands for one scene or two (activate one, deactivate the other), the
-/// auto-mode switch both ways. Through the external API: the same commands (with module type
+/// auto-mode switch both ways; through an interface bound to several sequences, a report
+/// stating a sequence it is not bound to, and the AD API's policy of each of its modules, both
+/// ways. Through the external API: the same commands (with module type
 /// `NONE`: matched by identifier), a scene named twice, an undefined command, an undefined
 /// module type, an empty request, a request over the batch limit; the auto-mode switch of each
 /// bound module type, of a type no interface reports, and of an undefined type. Time.
@@ -177,25 +191,59 @@ pub fn alphabet(bindings: &[Binding], ids: &[SceneId], max_batch: usize) -> Vec<
         single.chain(pairs)
     };
     for (interface, binding) in bindings.iter().enumerate() {
+        // An interface bound to one sequence is reported to without one, as upstream's are.
+        let several = binding.sequences.len() > 1;
+        let stated: Vec<Option<Sequence>> = if several {
+            core::iter::once(None)
+                .chain(binding.sequences.iter().copied().map(Some))
+                .collect()
+        } else {
+            vec![None]
+        };
         for &id in ids {
-            for (state, safe, requested) in reports {
-                calls.push(Call::Update {
-                    interface,
-                    id,
-                    safe,
-                    state,
-                    requested,
-                });
+            for &sequence in &stated {
+                for (state, safe, requested) in reports {
+                    calls.push(Call::Update {
+                        interface,
+                        id,
+                        sequence,
+                        safe,
+                        state,
+                        requested,
+                    });
+                }
             }
             calls.push(Call::Remove { interface, id });
         }
         calls.push(Call::Update {
             interface,
             id: first,
+            sequence: None,
             safe: true,
             state: UNDEFINED_STATE,
             requested: false,
         });
+        let unbound = Sequence::ALL
+            .into_iter()
+            .find(|sequence| !binding.sequences.contains(sequence));
+        if let (true, Some(unbound)) = (several, unbound) {
+            calls.push(Call::Update {
+                interface,
+                id: first,
+                sequence: Some(unbound),
+                safe: true,
+                state: S::WAITING_FOR_EXECUTION,
+                requested: false,
+            });
+            for &sequence in &binding.sequences {
+                for policy in [Policy::Optional, Policy::Required] {
+                    calls.push(Call::SetPolicy {
+                        module: Module::with_sequence(binding.behavior, sequence),
+                        policy,
+                    });
+                }
+            }
+        }
         calls.push(Call::Clear { interface });
         let own = rtc::Module::from(binding.module_type).r#type;
         for orders in commands(own) {
@@ -301,13 +349,16 @@ pub fn describe(call: &Call, names: &[String]) -> String {
         Call::Update {
             interface,
             id,
+            sequence,
             safe,
             state,
             requested,
         } => format!(
-            "{}.update_cooperate_status({}, {}, {}{})",
+            "{}.update_cooperate_status{}({}, {}{}, {}{})",
             name(interface),
+            if sequence.is_some() { "_in" } else { "" },
             short(*id),
+            sequence.map_or_else(String::new, |s| format!("{}, ", sequence_name(s))),
             if *safe { "safe" } else { "unsafe" },
             state_name(*state),
             if *requested { ", requested" } else { "" }
@@ -345,5 +396,16 @@ pub fn describe(call: &Call, names: &[String]) -> String {
             module_name(*module)
         ),
         Call::Tick => "rtc.tick(1 ms)".to_owned(),
+        Call::SetPolicy { module, policy } => {
+            format!("AD API set_policies({module} {policy})")
+        }
+    }
+}
+
+/// A sequence as the AD API names it, the empty one said so.
+fn sequence_name(sequence: Sequence) -> String {
+    match sequence {
+        Sequence::Empty => "empty sequence".to_owned(),
+        other => other.as_str().to_owned(),
     }
 }

@@ -7,9 +7,10 @@
 
 use std::sync::Arc;
 
-use cooperation::rtc::Rtc;
+use cooperation::rtc::{policy_for_auto_mode, Binding, Rtc};
 use cooperation::{
-    Command, Decision, Input, Module, OperatorDecision, Rejection, Report, Rule, SceneId, State,
+    Command, Decision, Input, Module, OperatorDecision, PolicySetting, Rejection, Report, Rule,
+    SceneId, State,
 };
 use serde::{Deserialize, Serialize};
 
@@ -35,18 +36,38 @@ pub enum RtcFault {
     RefusalHalfApplies,
     /// An interface's removal removes a scene of another interface of the same module.
     RemoveCrossesInterface,
+    /// A status update is made in its interface's first sequence, whatever sequence the owner
+    /// states (a return registers as a shift out).
+    SequenceIgnored,
+    /// An interface's auto-mode switch sets the policy of its first module only (one flag per
+    /// interface, as upstream, mapped to one module).
+    AutoModeOneSequence,
+    /// A removal names the interface's first module, not the scene's.
+    RemoveInFirstSequence,
 }
 
 impl RtcFault {
     /// Every fault.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 9] = [
         Self::AutoModeClobbers,
         Self::CommandCrossesInterface,
         Self::StoredCommandReapplies,
         Self::RejectionDropped,
         Self::RefusalHalfApplies,
         Self::RemoveCrossesInterface,
+        Self::SequenceIgnored,
+        Self::AutoModeOneSequence,
+        Self::RemoveInFirstSequence,
     ];
+
+    /// Whether the fault can show only through an interface bound to several sequences.
+    #[must_use]
+    pub const fn needs_sequences(self) -> bool {
+        matches!(
+            self,
+            Self::SequenceIgnored | Self::AutoModeOneSequence | Self::RemoveInFirstSequence
+        )
+    }
 
     /// The call, made wrong. `stash` is the fault's memory, kept in the model's state.
     pub(super) fn invoke(
@@ -104,11 +125,54 @@ impl RtcFault {
                 said
             }
             (Self::RemoveCrossesInterface, Call::Remove { interface, id }) => {
-                let module = model.binding(*interface).map(|b| b.module);
+                let module = model.binding(*interface).and_then(Binding::only_module);
                 let result = module
                     .ok_or(Rejection::OwnerUnknown { id: *id })
                     .and_then(|module| core.apply(&Input::Remove { id: *id, module }));
                 Said::transitions(Kind::Remove, result.map(|t| vec![t]).map_err(Into::into))
+            }
+            (
+                Self::SequenceIgnored,
+                Call::Update {
+                    interface,
+                    sequence: Some(_),
+                    ..
+                },
+            ) => {
+                let first = model
+                    .binding(*interface)
+                    .and_then(|b| b.sequences.first().copied());
+                let mut call = call.clone();
+                if let Call::Update { sequence, .. } = &mut call {
+                    *sequence = first;
+                }
+                model.invoke(core, rtc, &call)
+            }
+            (Self::AutoModeOneSequence, Call::AutoMode { interface, enable }) => {
+                let Some(module) = first_module(model, *interface) else {
+                    return model.invoke(core, rtc, call);
+                };
+                let result = core
+                    .apply(&Input::SetPolicies {
+                        policies: vec![PolicySetting {
+                            module,
+                            policy: policy_for_auto_mode(*enable),
+                        }],
+                    })
+                    .map_err(Into::into);
+                let success = result.is_ok();
+                Said::auto_mode(Kind::AutoMode, result, success)
+            }
+            (Self::RemoveInFirstSequence, Call::Remove { interface, id }) => {
+                let own = model.binding(*interface).map(|b| &b.name)
+                    == rtc.owner(core, *id).map(|b| &b.name);
+                match first_module(model, *interface) {
+                    Some(module) if own && core.scene(*id).is_some() => {
+                        let result = core.apply(&Input::Remove { id: *id, module });
+                        Said::transitions(Kind::Remove, result.map(|t| vec![t]).map_err(Into::into))
+                    }
+                    _ => model.invoke(core, rtc, call),
+                }
             }
             (
                 Self::AutoModeClobbers,
@@ -123,6 +187,11 @@ impl RtcFault {
             _ => model.invoke(core, rtc, call),
         }
     }
+}
+
+/// The first module interface `interface` is bound to.
+fn first_module(model: &RtcModel, interface: usize) -> Option<Module> {
+    model.binding(interface).and_then(|b| b.modules().next())
 }
 
 /// The refused update's module decision written anyway: an update to the scene's own phase.

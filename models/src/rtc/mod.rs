@@ -3,8 +3,10 @@
 //!
 //! `next_state` makes one call of the adapter ([`RtcModel::invoke`]: `update_cooperate_status`,
 //! `remove_cooperate_status`, `clear_cooperate_status`, the interfaces' and the external API's
-//! `cooperate_commands`, `auto_mode`, `auto_mode_with_module`, `tick`) on a copy of the core's
-//! state and the adapter's, unless an [`RtcFault`] is injected for a sensitivity test. No guard,
+//! `cooperate_commands`, `auto_mode`, `auto_mode_with_module`, `tick`; beside them, the AD
+//! API's `set_policies` for a module of an interface bound to several sequences) on a copy of
+//! the core's state and the adapter's, unless an [`RtcFault`] is injected for a sensitivity
+//! test. No guard,
 //! table or rule of the specification is restated here. It then records what the call answered
 //! ([`Outcome`]) and, as sticky flags, which step properties the step broke ([`Broken`]); the
 //! properties ([`properties`]) are stated from the specification's §5, §6 and §9 and from
@@ -28,7 +30,7 @@ mod step;
 use std::sync::Arc;
 
 use cooperation::rtc::{AutoModeRequest, AutoModeWithModuleRequest, Binding, Rtc, View};
-use cooperation::{Config, Limits, Module, SceneId, State};
+use cooperation::{Config, Limits, Module, PolicySetting, SceneId, State};
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property};
 
@@ -41,20 +43,47 @@ pub use call::{
 };
 pub use fault::RtcFault;
 pub use observe::Said;
-pub use properties::properties;
+pub use properties::{properties, properties_for};
 pub use render::answer;
 pub use step::{Answer, Broken, Interface, Kind, Outcome, Refusal, RtcStep};
 
-/// The interfaces a model draws from, in order: the first `interfaces` of these. The two lane
-/// changes share one core module (`lane-change`), so only the adapter's routes keep their
-/// scenes apart; the intersection is a module of its own.
-pub const INTERFACES: [&str; 3] = ["lane_change_left", "lane_change_right", "intersection"];
+/// The interfaces a model draws from, in order: `interfaces` of these, from
+/// `first_interface`. The two lane changes share one core module (`lane-change`), so only the
+/// adapter's routes keep their scenes apart; the intersection is a module of its own; the two
+/// avoidances are each bound to two modules (`avoidance/change` and `avoidance/return`), the
+/// same two, so their owner states each scene's sequence, the two sequences can have different
+/// policies, and again only the routes keep the interfaces' scenes apart.
+pub const INTERFACES: [&str; 5] = [
+    "lane_change_left",
+    "lane_change_right",
+    "intersection",
+    "static_obstacle_avoidance_left",
+    "static_obstacle_avoidance_right",
+];
+
+/// The position in [`INTERFACES`] of the first avoidance interface.
+pub const AVOIDANCE: usize = 3;
+
+/// The core modules a binding declares its scenes may belong to, from its fields (the model's
+/// own reading, not the adapter's `Binding::modules`).
+#[must_use]
+pub fn modules_of(binding: &Binding) -> Vec<Module> {
+    binding
+        .sequences
+        .iter()
+        .map(|sequence| Module::with_sequence(binding.behavior, *sequence))
+        .collect()
+}
 
 /// The size of an RTC model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RtcBounds {
-    /// Interfaces (1 to 3), the first of [`INTERFACES`].
+    /// How many interfaces: [`INTERFACES`] from `first_interface`.
     pub interfaces: usize,
+    /// The position in [`INTERFACES`] of the first interface (0, the first lane change, unless
+    /// said).
+    #[serde(default)]
+    pub first_interface: usize,
     /// Scene identifiers, `1..=scenes`, shared by the interfaces.
     pub scenes: usize,
     /// The live-scene limit (`max_scenes`).
@@ -70,10 +99,18 @@ impl RtcBounds {
     pub fn new(interfaces: usize, scenes: usize) -> Self {
         Self {
             interfaces,
+            first_interface: 0,
             scenes,
             live: scenes.saturating_sub(1).max(1),
             retired: scenes,
         }
+    }
+
+    /// The same bounds, drawing the interfaces from position `first` of [`INTERFACES`].
+    #[must_use]
+    pub const fn from_interface(mut self, first: usize) -> Self {
+        self.first_interface = first;
+        self
     }
 }
 
@@ -101,14 +138,16 @@ impl RtcModel {
     pub fn new(bounds: RtcBounds) -> Result<Self, ModelError> {
         let RtcBounds {
             interfaces,
+            first_interface,
             scenes,
             live,
             retired,
         } = bounds;
-        if !(1..=INTERFACES.len()).contains(&interfaces) {
-            let most = INTERFACES.len();
+        let most = INTERFACES.len().saturating_sub(first_interface);
+        if !(1..=most).contains(&interfaces) {
             return Err(ModelError::Bounds(format!(
-                "interfaces must be 1 to {most}"
+                "interfaces must be 1 to {most} from interface {first_interface} of {}",
+                INTERFACES.len()
             )));
         }
         if !(1..=MAX_SMALL_SCENES).contains(&scenes) {
@@ -125,6 +164,7 @@ impl RtcModel {
         let standard = Rtc::standard();
         let bindings: Vec<Binding> = INTERFACES
             .iter()
+            .skip(first_interface)
             .take(interfaces)
             .filter_map(|name| {
                 standard
@@ -251,20 +291,32 @@ impl RtcModel {
             Call::Update {
                 interface,
                 id,
+                sequence,
                 safe,
                 state,
                 requested,
             } => {
-                let result = rtc.interface(core, name(interface)).and_then(|mut it| {
-                    it.update_cooperate_status(
-                        *id,
-                        *safe,
-                        *state,
-                        START_DISTANCE,
-                        FINISH_DISTANCE,
-                        *requested,
-                    )
-                });
+                let result =
+                    rtc.interface(core, name(interface))
+                        .and_then(|mut it| match sequence {
+                            Some(sequence) => it.update_cooperate_status_in(
+                                *id,
+                                *sequence,
+                                *safe,
+                                *state,
+                                START_DISTANCE,
+                                FINISH_DISTANCE,
+                                *requested,
+                            ),
+                            None => it.update_cooperate_status(
+                                *id,
+                                *safe,
+                                *state,
+                                START_DISTANCE,
+                                FINISH_DISTANCE,
+                                *requested,
+                            ),
+                        });
                 Said::transitions(kind, result)
             }
             Call::Remove { interface, id } => {
@@ -316,6 +368,13 @@ impl RtcModel {
                 Said::auto_mode(kind, reply.result, reply.response.success)
             }
             Call::Tick => Said::transitions(kind, rtc.tick(core, 1).map(|t| vec![t])),
+            Call::SetPolicy { module, policy } => {
+                let response = core.set_policies(vec![PolicySetting {
+                    module: *module,
+                    policy: *policy,
+                }]);
+                Said::transitions(kind, response.result.map(|t| vec![t]).map_err(Into::into))
+            }
         }
     }
 
@@ -349,21 +408,25 @@ impl RtcModel {
         Ok(steps)
     }
 
-    /// The core modules an auto-mode call asks to switch: the interface's module, or the
-    /// modules of every interface reporting the module type.
+    /// Whether the model has an interface bound to several sequences.
+    #[must_use]
+    pub fn has_sequences(&self) -> bool {
+        self.bindings.iter().any(|b| b.sequences.len() > 1)
+    }
+
+    /// The core modules an auto-mode call asks to switch: every module of the interface, or of
+    /// every interface reporting the module type (`[COOP-DEV-SEQUENCE.1]`).
     #[must_use]
     pub fn switched_modules(&self, call: &Call) -> Vec<Module> {
         let mut modules: Vec<Module> = match call {
-            Call::AutoMode { interface, .. } => self
-                .binding(*interface)
-                .map(|b| b.module)
-                .into_iter()
-                .collect(),
+            Call::AutoMode { interface, .. } => {
+                self.binding(*interface).map(modules_of).unwrap_or_default()
+            }
             Call::AutoModeWithModule { module, .. } => self
                 .bindings
                 .iter()
                 .filter(|b| cooperation::rtc::Module::from(b.module_type).r#type == *module)
-                .map(|b| b.module)
+                .flat_map(modules_of)
                 .collect(),
             _ => Vec::new(),
         };
@@ -372,26 +435,41 @@ impl RtcModel {
         modules
     }
 
-    /// Whether an accepted auto-mode call switched every interface of the modules it names to
-    /// what it asked, and no other (`[COOP-DEV-AUTO-MODE-KEY.1]`, `[COOP-DEV-ROUTING.1]`).
+    /// Whether an accepted auto-mode call set the policy of every module it names to what it
+    /// asked and left every other module's, and switched the auto-mode status of every
+    /// interface all of whose modules it names, leaving that of every interface none of whose
+    /// modules it names (`[COOP-DEV-AUTO-MODE-KEY.1]`, `[COOP-DEV-ROUTING.1]`,
+    /// `[COOP-DEV-SEQUENCE.1]`).
     fn switched_as_asked(&self, from: &RtcStep, call: &Call, to: &RtcStep) -> bool {
         let enable = match call {
             Call::AutoMode { enable, .. } | Call::AutoModeWithModule { enable, .. } => *enable,
             _ => return true,
         };
         let modules = self.switched_modules(call);
+        let asked = cooperation::rtc::policy_for_auto_mode(enable);
+        let policies = to.core.policies().all(|setting| {
+            let expected = if modules.contains(&setting.module) {
+                Some(asked)
+            } else {
+                from.core.policy(setting.module)
+            };
+            Some(setting.policy) == expected
+        });
         let auto = |step: &RtcStep, j: usize| {
             self.view(step, j)
                 .map(|view| view.auto_mode_status().is_auto_mode)
         };
         !modules.is_empty()
+            && policies
             && self.bindings.iter().enumerate().all(|(j, binding)| {
-                let expected = if modules.contains(&binding.module) {
-                    Some(enable)
+                let own = modules_of(binding);
+                if own.iter().all(|m| modules.contains(m)) {
+                    auto(to, j) == Some(enable)
+                } else if own.iter().all(|m| !modules.contains(m)) {
+                    auto(to, j) == auto(from, j)
                 } else {
-                    auto(from, j)
-                };
-                auto(to, j) == expected
+                    true
+                }
             })
     }
 }
@@ -411,6 +489,7 @@ const fn kind(call: &Call) -> Kind {
         Call::AutoMode { .. } => Kind::AutoMode,
         Call::AutoModeWithModule { .. } => Kind::AutoModeWithModule,
         Call::Tick => Kind::Tick,
+        Call::SetPolicy { .. } => Kind::SetPolicy,
     }
 }
 
@@ -449,7 +528,7 @@ impl Model for RtcModel {
     }
 
     fn properties(&self) -> Vec<Property<Self>> {
-        let mut all = properties();
+        let mut all = properties_for(self.has_sequences());
         if let Some(focus) = self.focus {
             all.retain(|p| p.name == focus);
         }

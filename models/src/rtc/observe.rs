@@ -2,7 +2,9 @@
 //! properties. It compares states and reads the call and its answer; it decides nothing.
 
 use cooperation::rtc::{self, CooperateResponse, Reply, RtcError};
-use cooperation::{OperatorDecision, Phase, RetireReason, SceneId, State, Transition};
+use cooperation::{
+    Module, OperatorDecision, Phase, RetireReason, Rule, SceneId, Sequence, State, Transition,
+};
 
 use super::call::{Call, Order, UNDEFINED_COMMAND, UNDEFINED_MODULE, UNDEFINED_STATE};
 use super::step::{Answer, Broken, Interface, Kind, Outcome, Refusal, RtcStep};
@@ -124,7 +126,63 @@ fn undefined_field(call: &Call) -> Option<(String, u8)> {
         Call::AutoModeWithModule { module, .. } => {
             (*module == UNDEFINED_MODULE).then(|| ("module.type".to_owned(), *module))
         }
-        Call::Remove { .. } | Call::Clear { .. } | Call::AutoMode { .. } | Call::Tick => None,
+        Call::Remove { .. }
+        | Call::Clear { .. }
+        | Call::AutoMode { .. }
+        | Call::Tick
+        | Call::SetPolicy { .. } => None,
+    }
+}
+
+/// The module an accepted status update leaves its scene in, as `docs/rtc.md` says: a live
+/// scene's own; else the module of the sequence stated; else the interface's one module.
+fn reported_module(
+    model: &RtcModel,
+    old: &State,
+    interface: usize,
+    id: SceneId,
+    sequence: Option<Sequence>,
+) -> Option<Module> {
+    if let Some(scene) = old.scene(id) {
+        return Some(scene.module());
+    }
+    let binding = model.binding(interface)?;
+    let sequence = match sequence {
+        Some(sequence) => sequence,
+        None if binding.sequences.len() == 1 => *binding.sequences.first()?,
+        None => return None,
+    };
+    Some(Module::with_sequence(binding.behavior, sequence))
+}
+
+/// Which sequence refusal `docs/rtc.md` says a call gets, if any: a status update with a
+/// defined state stating a sequence its interface is not bound to; stating none for a scene
+/// that is not live through an interface bound to several; stating another than its own live
+/// scene's (the core's module rule).
+fn sequence_refusal(model: &RtcModel, from: &RtcStep, call: &Call) -> Option<Refusal> {
+    let Call::Update {
+        interface,
+        id,
+        sequence,
+        state,
+        ..
+    } = call
+    else {
+        return None;
+    };
+    rtc::State::new(*state).phase().ok()?;
+    let binding = model.binding(*interface)?;
+    let scene = from.core.scene(*id);
+    match sequence {
+        Some(stated) if !binding.sequences.contains(stated) => Some(Refusal::UnboundSequence),
+        Some(stated) => {
+            let own = scene.filter(|_| from.owner(*id).map(usize::from) == Some(*interface));
+            own.is_some_and(|scene| scene.module().sequence != *stated)
+                .then_some(Refusal::Core(Rule::OwnerModule))
+        }
+        None => {
+            (scene.is_none() && binding.sequences.len() > 1).then_some(Refusal::SequenceUnstated)
+        }
     }
 }
 
@@ -146,6 +204,21 @@ pub(super) fn observe(
     let unchanged = old == new && from.rtc == to.rtc;
     broken.set(Broken::REFUSAL_CHANGED, !accepted && !unchanged);
     broken.set(Broken::FIELD_MISNAMED, said.field != undefined_field(call));
+    let for_sequence = match said.outcome.answer {
+        Answer::Refused(
+            refusal @ (Refusal::UnboundSequence
+            | Refusal::SequenceUnstated
+            | Refusal::Core(Rule::OwnerModule)),
+        ) => Some(refusal),
+        Answer::Refused(Refusal::InitialPhase(Rule::OwnerModule)) => {
+            Some(Refusal::Core(Rule::OwnerModule))
+        }
+        _ => None,
+    };
+    broken.set(
+        Broken::SEQUENCE_WRONG,
+        for_sequence != sequence_refusal(model, from, call),
+    );
 
     // Registrars: who registered each identifier the core remembers now.
     for &id in ids {
@@ -202,11 +275,13 @@ pub(super) fn observe(
         Call::Update {
             interface,
             id,
+            sequence,
             safe,
             state,
             requested,
         } if accepted => {
             let phase = rtc::State::new(*state).phase().ok();
+            let module = reported_module(model, old, *interface, *id, *sequence);
             let as_reported = match phase {
                 Some(Phase::Succeeded | Phase::Failed) => {
                     let reason = if phase == Some(Phase::Succeeded) {
@@ -215,9 +290,14 @@ pub(super) fn observe(
                         RetireReason::Failed
                     };
                     gone_as(new, *id, reason)
+                        && module.is_some()
+                        && new
+                            .retirement(*id)
+                            .map_or(true, |r| Some(r.module) == module)
                 }
                 Some(phase) => new.scene(*id).is_some_and(|scene| {
-                    scene.phase() == phase
+                    Some(scene.module()) == module
+                        && scene.phase() == phase
                         && (scene.module_decision() == cooperation::Decision::Activate) == *safe
                         && scene.is_requested() == *requested
                         && scene.age_ms() == 0
@@ -265,6 +345,12 @@ pub(super) fn observe(
                         != decision(order)
                 });
             broken.set(Broken::COMMAND_MISSED, missed);
+        }
+        Call::SetPolicy { .. } => {
+            let scenes_kept = old.scenes().eq(new.scenes())
+                && old.retired_by_id().eq(new.retired_by_id())
+                && from.rtc == to.rtc;
+            broken.set(Broken::AUTO_MODE_CLOBBERED, !scenes_kept);
         }
         Call::AutoMode { .. } | Call::AutoModeWithModule { .. } => {
             broken.set(Broken::UNANSWERED, said.success != Some(accepted));

@@ -10,7 +10,7 @@ use cooperation::{
 use stateright::Property;
 
 use super::step::{Answer, Broken, Kind, Outcome, Refusal, RtcStep};
-use super::{RtcModel, FINISH_DISTANCE, START_DISTANCE};
+use super::{modules_of, RtcModel, FINISH_DISTANCE, START_DISTANCE};
 
 type Condition = fn(&RtcModel, &RtcStep) -> bool;
 
@@ -187,7 +187,9 @@ fn auto_mode_is_policy(model: &RtcModel, step: &RtcStep) -> bool {
     let array = step.rtc.auto_mode_status_array(&step.core, STAMP);
     array.statuses.len() == model.bindings().len()
         && model.bindings().iter().enumerate().all(|(at, binding)| {
-            let on = step.core.policy(binding.module) == Some(Policy::Optional);
+            let on = modules_of(binding)
+                .into_iter()
+                .all(|module| step.core.policy(module) == Some(Policy::Optional));
             let status = rtc::AutoModeStatus {
                 module: binding.module_type.into(),
                 is_auto_mode: on,
@@ -197,6 +199,24 @@ fn auto_mode_is_policy(model: &RtcModel, step: &RtcStep) -> bool {
                 .is_some_and(|v| v.auto_mode_status() == status)
                 && array.statuses.get(at) == Some(&status)
         })
+}
+
+/// Every scene the model saw an interface register, live or retired, belongs to one of the
+/// modules that interface is bound to.
+fn scenes_in_bound_modules(model: &RtcModel, step: &RtcStep) -> bool {
+    model.ids().iter().all(|&id| {
+        let module = step
+            .core
+            .scene(id)
+            .map(Scene::module)
+            .or_else(|| step.core.retirement(id).map(|r| r.module));
+        match (module, step.registrar(id)) {
+            (Some(module), Some(at)) => model
+                .binding(usize::from(at))
+                .is_some_and(|binding| modules_of(binding).contains(&module)),
+            _ => true,
+        }
+    })
 }
 
 /// The adapter's memory is bounded as the core's is, `Rtc::route_count`'s promise, and the
@@ -220,7 +240,8 @@ fn starts_in_auto_mode(model: &RtcModel, step: &RtcStep) -> bool {
         || model
             .bindings()
             .iter()
-            .all(|binding| step.core.policy(binding.module) == Some(Policy::Optional))
+            .flat_map(modules_of)
+            .all(|module| step.core.policy(module) == Some(Policy::Optional))
 }
 
 /// `check(view, scene, activated)` for every live scene through the interface that owns it.
@@ -325,16 +346,37 @@ const ANSWERS: [Wanted; 31] = {
     ]
 };
 
-fn answered<const I: usize>(_: &RtcModel, step: &RtcStep) -> bool {
+/// The interesting answers of calls that only an interface bound to several sequences, or the
+/// AD API's policy of one of its modules, can give.
+const SEQUENCE_ANSWERS: [Wanted; 4] = {
+    use Answer::{Accepted as A, Refused as R};
+    [
+        ("COOP-DEV-SEQUENCE.1: an update stating a sequence its interface is not bound to is refused", Kind::Update, |a| a == R(Refusal::UnboundSequence)),
+        ("COOP-DEV-SEQUENCE.1: a new scene reported without its sequence through an interface bound to two is refused", Kind::Update, |a| a == R(Refusal::SequenceUnstated)),
+        ("COOP-OWN-MODULE.1, COOP-DEV-SEQUENCE.1: an update stating another sequence than its scene's is refused", Kind::Update, |a| a == R(Refusal::Core(Rule::OwnerModule))),
+        ("COOP-DEV-SEQUENCE.1: the AD API sets one sequence's policy", Kind::SetPolicy, |a| a == A(Some(Rule::PolicySet), None)),
+    ]
+};
+
+/// Whether the step's last call answered as `wanted` does.
+fn answered_as(step: &RtcStep, wanted: Option<&Wanted>) -> bool {
     if !step.shows_last() {
         return false;
     }
-    match (step.last, ANSWERS.get(I)) {
+    match (step.last, wanted) {
         (Some(Outcome { kind, answer }), Some((_, wanted, matches))) => {
             kind == *wanted && matches(answer)
         }
         _ => false,
     }
+}
+
+fn answered<const I: usize>(_: &RtcModel, step: &RtcStep) -> bool {
+    answered_as(step, ANSWERS.get(I))
+}
+
+fn answered_in_sequence<const I: usize>(_: &RtcModel, step: &RtcStep) -> bool {
+    answered_as(step, SEQUENCE_ANSWERS.get(I))
 }
 
 /// Witnesses, on steps that changed something (a stalled step's states are its
@@ -356,6 +398,19 @@ fn force_deactivated(model: &RtcModel, step: &RtcStep) -> bool {
     !step.stalled && !every_scene(model, step, |_, _, _, _, forced| !forced)
 }
 
+/// One interface has live scenes of two modules, under different policies.
+fn two_policies_on_one_interface(_: &RtcModel, step: &RtcStep) -> bool {
+    !step.stalled
+        && live(step).any(|(_, a, at)| {
+            live(step).any(|(_, b, bt)| {
+                at.is_some()
+                    && at == bt
+                    && a.module() != b.module()
+                    && step.core.policy(a.module()) != step.core.policy(b.module())
+            })
+        })
+}
+
 fn two_interfaces_live(_: &RtcModel, step: &RtcStep) -> bool {
     let mut owners = live(step).filter_map(|(_, _, registrar)| registrar);
     owners
@@ -372,7 +427,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
     vec![
         ("COOP-DEV-SILENT-DROP.1: a refused call changes nothing (the state after it equals the state before)", unbroken::<{ Broken::REFUSAL_CHANGED.0 }>),
         ("COOP-DEV-ROUTING.1, COOP-DEV-BATCH.1: every command and auto-mode request is answered, success exactly when it applied", unbroken::<{ Broken::UNANSWERED.0 }>),
-        ("COOP-DEV-SILENT-DROP.1, COOP-DEV-REGISTER-PHASE.1: an accepted status update or removal leaves the scene as reported", unbroken::<{ Broken::NOT_AS_REPORTED.0 }>),
+        ("COOP-DEV-SILENT-DROP.1, COOP-DEV-REGISTER-PHASE.1, COOP-DEV-SEQUENCE.1: an accepted status update or removal leaves the scene as reported, in the module its sequence names", unbroken::<{ Broken::NOT_AS_REPORTED.0 }>),
         ("COOP-DEV-ID-REUSE.1: an interface's calls change only scenes registered through it", unbroken::<{ Broken::FOREIGN_TOUCHED.0 }>),
         ("COOP-DEV-STORED-COMMANDS.1, COOP-CMD-APPLY.1: only an applied command changes an operator decision, and only its scene's", unbroken::<{ Broken::OPERATOR_BY_OTHER.0 }>),
         ("COOP-DEV-STORED-COMMANDS.1, COOP-DEV-NONE.1: a new scene starts with no operator decision", unbroken::<{ Broken::NEW_SCENE_DECIDED.0 }>),
@@ -383,13 +438,15 @@ fn steps() -> Vec<(&'static str, Condition)> {
         ("COOP-DEV-EXPIRY.1: a tick reports exactly the scenes that expired", unbroken::<{ Broken::EXPIRY_UNREPORTED.0 }>),
         ("COOP-OWN-REMOVE.1: a clear retires exactly its interface's live scenes and answers them", unbroken::<{ Broken::CLEAR_WRONG.0 }>),
         ("COOP-DEV-CONSTANTS.1: a call is refused for an undefined constant exactly when it carries one, naming the first such field and its value", unbroken::<{ Broken::FIELD_MISNAMED.0 }>),
+        ("COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: an update is refused for its sequence exactly when it is unbound, unstated for a new scene of several, or not its live scene's; no other call meets the module rule", unbroken::<{ Broken::SEQUENCE_WRONG.0 }>),
     ]
 }
 
 /// The state properties, by name. Each reads the core and the adapter only, so a stalled step
 /// (the same states as its predecessor, already checked) needs no check again.
-const STATES: [(&str, Condition); 14] = [
+const STATES: [(&str, Condition); 15] = [
         ("COOP-DEV-ID-REUSE.1: each remembered identifier is routed to the interface that registered it", routed_to_registrar),
+        ("COOP-DEV-SEQUENCE.1: every scene an interface registered belongs to a module it is bound to", scenes_in_bound_modules),
         ("COOP-DEV-ID-REUSE.1: the adapter's route count covers every routed identifier and no more than the core can remember plus one", routes_bounded),
         ("COOP-OUT-STATUS.1, COOP-DEV-NONE.1: each interface's status array lists exactly its live scenes, with the core's values", statuses_are_the_cores),
         ("COOP-DEV-ORDER.1, COOP-DEV-ROUTING.1: the external status array lists every interface's live scenes, nearest start first", external_statuses),
@@ -413,11 +470,22 @@ fn state<const I: usize>(model: &RtcModel, step: &RtcStep) -> bool {
 }
 
 /// Every property: the safety properties, then the reachability of each kind of call's
-/// interesting answers, then four scenario witnesses.
+/// interesting answers, then the scenario witnesses; the answers and the witness that only an
+/// interface bound to several sequences can give among them. For the traceability matrix and
+/// the name checks; a model checks [`properties_for`] its bindings.
 #[must_use]
 pub fn properties() -> Vec<Property<RtcModel>> {
+    properties_for(true)
+}
+
+/// The properties of a model with (`several_sequences`) or without an interface bound to
+/// several sequences: without one, the reachability of the answers only such an interface gives
+/// is left out, since no call could give them.
+#[must_use]
+pub fn properties_for(several_sequences: bool) -> Vec<Property<RtcModel>> {
     let answers = per_index!(answered: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30);
-    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12 13);
+    let in_sequence = per_index!(answered_in_sequence: 0 1 2 3);
+    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14);
     let mut properties: Vec<Property<RtcModel>> = steps()
         .into_iter()
         .map(|(name, condition)| Property::always(name, condition))
@@ -434,6 +502,14 @@ pub fn properties() -> Vec<Property<RtcModel>> {
             .zip(answers)
             .map(|((name, _, _), condition)| Property::sometimes(name, condition)),
     );
+    if several_sequences {
+        properties.extend(
+            SEQUENCE_ANSWERS
+                .iter()
+                .zip(in_sequence)
+                .map(|((name, _, _), condition)| Property::sometimes(name, condition)),
+        );
+    }
     properties.extend([
         Property::sometimes(
             "witness: an operator's deactivate stands under auto mode",
@@ -446,5 +522,11 @@ pub fn properties() -> Vec<Property<RtcModel>> {
             two_interfaces_live,
         ),
     ]);
+    if several_sequences {
+        properties.push(Property::sometimes(
+            "witness: one interface has live scenes of two modules under different policies",
+            two_policies_on_one_interface,
+        ));
+    }
     properties
 }

@@ -28,6 +28,10 @@ pub fn answer(outcome: &Outcome) -> String {
                 Refusal::NoInterface => "no interface reports the module type".to_owned(),
                 Refusal::ForeignScene =>
                     "another interface's scene (COOP-DEV-ID-REUSE.1)".to_owned(),
+                Refusal::UnboundSequence =>
+                    "a sequence the interface is not bound to (COOP-DEV-SEQUENCE.1)".to_owned(),
+                Refusal::SequenceUnstated =>
+                    "a new scene without its sequence (COOP-DEV-SEQUENCE.1)".to_owned(),
                 Refusal::InitialPhase(r) => format!("cannot start there ({})", r.tag()),
                 Refusal::Core(r) => r.tag().to_owned(),
                 Refusal::Other => "other".to_owned(),
@@ -49,8 +53,9 @@ impl RtcModel {
                 .map_or("?", String::as_str);
             let view = at.and_then(|at| self.view(step, at));
             let mut line = format!(
-                "{} via {name}: {}, {}, operator {}{}",
+                "{} via {name} ({}): {}, {}, operator {}{}",
                 short(id),
+                scene.module(),
                 scene.phase(),
                 if scene.module_decision() == cooperation::Decision::Activate {
                     "safe"
@@ -86,7 +91,27 @@ impl RtcModel {
                 } else {
                     "off"
                 };
-                Some(format!("{} {on}", view.binding().name))
+                let binding = view.binding();
+                // An interface bound to several sequences: each module's policy.
+                let policies: Vec<String> = if binding.sequences.len() > 1 {
+                    super::modules_of(binding)
+                        .into_iter()
+                        .map(|module| {
+                            let policy = step
+                                .core
+                                .policy(module)
+                                .map_or_else(|| "none".to_owned(), |p| p.to_string());
+                            format!("{module} {policy}")
+                        })
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                Some(if policies.is_empty() {
+                    format!("{} {on}", binding.name)
+                } else {
+                    format!("{} {on} ({})", binding.name, policies.join(", "))
+                })
             })
             .collect();
         lines.push(format!("auto mode: {}", auto.join(", ")));

@@ -30,6 +30,8 @@ pub enum Kind {
     AutoModeWithModule,
     /// `Rtc::tick`.
     Tick,
+    /// The AD API's `set_policies` for one module.
+    SetPolicy,
 }
 
 /// Why the adapter refused a call, without identifiers (so renaming leaves it alone).
@@ -44,6 +46,10 @@ pub enum Refusal {
     NoInterface,
     /// `RtcError::ForeignScene`.
     ForeignScene,
+    /// `RtcError::UnboundSequence`.
+    UnboundSequence,
+    /// `RtcError::SequenceUnstated`.
+    SequenceUnstated,
     /// `RtcError::InitialPhase`, with the core's rule.
     InitialPhase(Rule),
     /// `RtcError::Core`, with the core's rule.
@@ -61,6 +67,8 @@ impl Refusal {
             RtcError::UnknownInterface { .. } | RtcError::Unconfigured { .. } => Self::Interface,
             RtcError::NoInterface { .. } => Self::NoInterface,
             RtcError::ForeignScene { .. } => Self::ForeignScene,
+            RtcError::UnboundSequence { .. } => Self::UnboundSequence,
+            RtcError::SequenceUnstated { .. } => Self::SequenceUnstated,
             RtcError::InitialPhase { rejection, .. } => Self::InitialPhase(rejection.rule()),
             RtcError::Core(rejection) => Self::Core(rejection.rule()),
             _ => Self::Other,
@@ -140,9 +148,13 @@ impl Broken {
     /// A refusal for an undefined constant named another field or value than the call's first
     /// undefined one, or a call carrying one was not refused for it, or one without was.
     pub const FIELD_MISNAMED: Self = Self(1 << 12);
+    /// A status update was refused for its sequence other than exactly when it stated one its
+    /// interface is not bound to, stated none for a new scene of an interface bound to several,
+    /// or stated another than its live scene's; or another call was refused by the module rule.
+    pub const SEQUENCE_WRONG: Self = Self(1 << 13);
 
     /// Every flag with a short name, for traces.
-    pub const NAMED: [(Self, &'static str); 13] = [
+    pub const NAMED: [(Self, &'static str); 14] = [
         (Self::REFUSAL_CHANGED, "refusal changed the state"),
         (Self::UNANSWERED, "request not answered as it went"),
         (
@@ -170,6 +182,10 @@ impl Broken {
         (
             Self::FIELD_MISNAMED,
             "refusal did not name the undefined field",
+        ),
+        (
+            Self::SEQUENCE_WRONG,
+            "sequence refused other than as documented",
         ),
     ];
 

@@ -8,7 +8,9 @@ use crate::rtc::{
     AutoModeRequest, AutoModeResponse, AutoModeStatus, Binding, CooperateCommandsRequest,
     CooperateCommandsResponse, CooperateStatusArray, FieldError, RtcError, Time,
 };
-use crate::{Decision, Input, Phase, Report, RetireReason, Scene, SceneId, Transition};
+use crate::{
+    Decision, Input, Module, Phase, Report, RetireReason, Scene, SceneId, Sequence, Transition,
+};
 
 use super::{
     apply_commands, auto_mode, auto_mode_status, cooperate_status, prune, set_auto_mode, Reply,
@@ -125,7 +127,8 @@ impl<'a> View<'a> {
         }
     }
 
-    /// Upstream's auto-mode status: on when the interface's module policy is optional.
+    /// Upstream's auto-mode status: on when the interface's module policy is optional (every
+    /// one of its modules', for an interface that binds several sequences).
     #[must_use]
     pub fn auto_mode_status(&self) -> AutoModeStatus {
         auto_mode_status(self.binding, self.state)
@@ -155,21 +158,25 @@ impl Interface<'_> {
         }
     }
 
-    /// Upstream `updateCooperateStatus`: the owner reports a scene.
+    /// Upstream `updateCooperateStatus`: the owner reports a scene, without stating its
+    /// sequence.
     ///
-    /// For a live scene of this interface it is the core's `Update`: `safe` is the module
-    /// decision (activate when safe), `state` the phase, the distances the geometry, and
-    /// `requested` the requested flag. For an identifier that is not live it is the core's
-    /// `Register` (`[COOP-DEV-IMPLICIT-REGISTER.1]`), followed, if `state` is not waiting, by the
-    /// update to it, as one step (`[COOP-DEV-REGISTER-PHASE.1]`). The answer lists the
-    /// transitions.
+    /// For a live scene of this interface it is the core's `Update` of the scene's module:
+    /// `safe` is the module decision (activate when safe), `state` the phase, the distances the
+    /// geometry, and `requested` the requested flag. For an identifier that is not live it is
+    /// the core's `Register` (`[COOP-DEV-IMPLICIT-REGISTER.1]`) in the interface's one module,
+    /// followed, if `state` is not waiting, by the update to it, as one step
+    /// (`[COOP-DEV-REGISTER-PHASE.1]`). The answer lists the transitions. An interface that binds
+    /// several sequences (the avoidances: change and return) cannot tell which a new scene is:
+    /// register it with [`update_cooperate_status_in`](Self::update_cooperate_status_in).
     ///
     /// # Errors
     /// [`RtcError::Field`] if `state` is none of `State`'s constants (`[COOP-DEV-CONSTANTS.1]`);
     /// [`RtcError::ForeignScene`] if the scene is another interface's;
-    /// [`RtcError::InitialPhase`] if a new scene cannot start in `state`; the core's rejection
-    /// otherwise (for example a phase change the lifecycle forbids, or a retired identifier).
-    /// Nothing changes on an error.
+    /// [`RtcError::SequenceUnstated`] if the scene is not live and the interface binds several
+    /// sequences; [`RtcError::InitialPhase`] if a new scene cannot start in `state`; the core's
+    /// rejection otherwise (for example a phase change the lifecycle forbids, or a retired
+    /// identifier). Nothing changes on an error.
     pub fn update_cooperate_status(
         &mut self,
         id: SceneId,
@@ -179,6 +186,64 @@ impl Interface<'_> {
         finish_distance: f32,
         requested: bool,
     ) -> Result<Vec<Transition>, RtcError> {
+        self.report(
+            id,
+            None,
+            safe,
+            state,
+            (start_distance, finish_distance),
+            requested,
+        )
+    }
+
+    /// `updateCooperateStatus` with the scene's sequence stated: the owner reports a scene of
+    /// this interface's behaviour in `sequence`, for example an avoidance's shift out
+    /// ([`Sequence::Change`]) or its return ([`Sequence::Return`]). The sequence picks the
+    /// scene's core module, and so the policy it is cooperated under (`[COOP-DEV-SEQUENCE.1]`).
+    ///
+    /// Otherwise as [`update_cooperate_status`](Self::update_cooperate_status). A scene's module
+    /// never changes: reporting a live scene in another sequence than it registered with is the
+    /// core's `Update` naming another module, which the core refuses (`WrongModule`,
+    /// `[COOP-OWN-MODULE.1]`).
+    ///
+    /// # Errors
+    /// [`RtcError::Field`] if `state` is none of `State`'s constants (`[COOP-DEV-CONSTANTS.1]`);
+    /// [`RtcError::UnboundSequence`] if the interface does not bind `sequence`;
+    /// [`RtcError::ForeignScene`] if the scene is another interface's;
+    /// [`RtcError::InitialPhase`] if a new scene cannot start in `state`; the core's rejection
+    /// otherwise (`WrongModule` for a live scene of another sequence, a phase change the
+    /// lifecycle forbids, a retired identifier). Nothing changes on an error.
+    #[allow(clippy::too_many_arguments)] // Upstream's, in its order, and the sequence.
+    pub fn update_cooperate_status_in(
+        &mut self,
+        id: SceneId,
+        sequence: Sequence,
+        safe: bool,
+        state: u8,
+        start_distance: f32,
+        finish_distance: f32,
+        requested: bool,
+    ) -> Result<Vec<Transition>, RtcError> {
+        self.report(
+            id,
+            Some(sequence),
+            safe,
+            state,
+            (start_distance, finish_distance),
+            requested,
+        )
+    }
+
+    /// A status report, with the sequence stated or not.
+    fn report(
+        &mut self,
+        id: SceneId,
+        sequence: Option<Sequence>,
+        safe: bool,
+        state: u8,
+        (start_distance, finish_distance): (f32, f32),
+        requested: bool,
+    ) -> Result<Vec<Transition>, RtcError> {
         // [COOP-DEV-CONSTANTS.1]
         let phase = crate::rtc::State::new(state)
             .phase()
@@ -186,6 +251,10 @@ impl Interface<'_> {
                 field: FieldPath::field("state"),
                 ..e
             })?;
+        // [COOP-DEV-SEQUENCE.1]
+        let stated = sequence
+            .map(|sequence| self.stated_module(sequence))
+            .transpose()?;
         let decision = if safe {
             Decision::Activate
         } else {
@@ -199,7 +268,31 @@ impl Interface<'_> {
                 self.binding.geometry(start_distance, finish_distance),
             )
         };
-        let module = self.binding.module;
+        if let Some(own) = self.state.scene(id).map(Scene::module) {
+            self.view().check_owned(id)?;
+            // The stated module, if any, goes to the core as it is: a scene of another module is
+            // the core's to refuse ([COOP-OWN-MODULE.1]).
+            let module = stated.unwrap_or(own);
+            let update = Input::Update {
+                id,
+                module,
+                phase,
+                report,
+            };
+            return Ok(vec![self.state.apply(&update)?]);
+        }
+        // [COOP-DEV-SEQUENCE.1]
+        let module = match stated {
+            Some(module) => module,
+            None => self
+                .binding
+                .only_module()
+                .ok_or_else(|| RtcError::SequenceUnstated {
+                    id,
+                    name: self.binding.name.clone(),
+                    bound: self.binding.modules().collect(),
+                })?,
+        };
         let register = Input::Register {
             id,
             module,
@@ -211,10 +304,6 @@ impl Interface<'_> {
             phase,
             report,
         };
-        if self.state.scene(id).is_some() {
-            self.view().check_owned(id)?;
-            return Ok(vec![self.state.apply(&update)?]);
-        }
         // [COOP-DEV-IMPLICIT-REGISTER.1] [COOP-DEV-REGISTER-PHASE.1]
         let transitions = if phase == Phase::Waiting {
             vec![self.state.apply(&register)?]
@@ -237,14 +326,38 @@ impl Interface<'_> {
         Ok(transitions)
     }
 
-    /// Upstream `removeCooperateStatus`: the core's `Remove`. The identifier retires.
+    /// The module of this interface's scenes of `sequence`, if it binds it.
+    fn stated_module(&self, sequence: Sequence) -> Result<Module, RtcError> {
+        self.binding
+            .module(sequence)
+            .ok_or_else(|| RtcError::UnboundSequence {
+                name: self.binding.name.clone(),
+                module: Module::with_sequence(self.binding.behavior, sequence),
+                bound: self.binding.modules().collect(),
+            })
+    }
+
+    /// The module a removal names: a live scene's own (the adapter has checked that it is this
+    /// interface's), else any of the interface's, since the core refuses an identifier that is
+    /// not live whatever module is named.
+    fn removal_module(&self, id: SceneId) -> Option<Module> {
+        self.state
+            .scene(id)
+            .map(Scene::module)
+            .or_else(|| self.binding.modules().next())
+    }
+
+    /// Upstream `removeCooperateStatus`: the core's `Remove` in the scene's module. The
+    /// identifier retires.
     ///
     /// # Errors
     /// [`RtcError::ForeignScene`] if the scene is another interface's; the core's rejection if
     /// the identifier is unknown or retired.
     pub fn remove_cooperate_status(&mut self, id: SceneId) -> Result<Transition, RtcError> {
         self.view().check_owned(id)?;
-        let module = self.binding.module;
+        let module = self.removal_module(id).ok_or(RtcError::NoSequence {
+            name: self.binding.name.clone(),
+        })?;
         Ok(self.state.apply(&Input::Remove { id, module })?)
     }
 
@@ -254,22 +367,24 @@ impl Interface<'_> {
     /// # Errors
     /// The core's rejection of a removal; then nothing is removed.
     pub fn clear_cooperate_status(&mut self) -> Result<Vec<SceneId>, RtcError> {
-        let ids: Vec<SceneId> = self
+        let scenes: Vec<(SceneId, Module)> = self
             .state
             .scenes()
-            .map(|(id, _)| id)
-            .filter(|id| self.routes.get(id) == Some(&self.index))
+            .filter(|(id, _)| self.routes.get(id) == Some(&self.index))
+            .map(|(id, scene)| (id, scene.module()))
             .collect();
-        if ids.is_empty() {
-            return Ok(ids);
+        if scenes.is_empty() {
+            return Ok(Vec::new());
         }
-        let module = self.binding.module;
         let mut next = self.state.clone();
-        for id in &ids {
-            next.apply(&Input::Remove { id: *id, module })?;
+        for (id, module) in &scenes {
+            next.apply(&Input::Remove {
+                id: *id,
+                module: *module,
+            })?;
         }
         *self.state = next;
-        Ok(ids)
+        Ok(scenes.into_iter().map(|(id, _)| id).collect())
     }
 
     /// Upstream's `CooperateCommands` service of this interface: the core's `SetCommands`. The
@@ -294,12 +409,13 @@ impl Interface<'_> {
         })
     }
 
-    /// Upstream's `AutoMode` service of this interface: the policy of its core module,
-    /// `optional` when enabled, `required` when not. Operator decisions stand
-    /// (`[COOP-DEV-POLICY-CLOBBER.1]`), and every interface of the same core module is switched
-    /// with it (`[COOP-DEV-AUTO-MODE-KEY.1]`).
+    /// Upstream's `AutoMode` service of this interface: the policy of its core module (of each,
+    /// for an interface that binds several sequences, `[COOP-DEV-SEQUENCE.1]`), `optional` when
+    /// enabled, `required` when not. Operator decisions stand (`[COOP-DEV-POLICY-CLOBBER.1]`),
+    /// and every interface of the same core module is switched with it
+    /// (`[COOP-DEV-AUTO-MODE-KEY.1]`).
     pub fn auto_mode(&mut self, request: &AutoModeRequest) -> Reply<AutoModeResponse> {
-        let result = set_auto_mode(self.state, [self.binding.module].into(), request.enable);
+        let result = set_auto_mode(self.state, self.binding.modules().collect(), request.enable);
         Reply {
             response: AutoModeResponse {
                 success: result.is_ok(),
