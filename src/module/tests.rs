@@ -133,3 +133,10 @@ fn module_display() {
     let custom = Module::with_sequence("valet".parse().unwrap(), "approach".parse().unwrap());
     assert_eq!(custom.to_string(), "valet/approach");
 }
+
+#[test]
+fn a_module_with_its_inline_names_is_fifty_bytes() {
+    assert_eq!(core::mem::size_of::<Extension>(), Extension::MAX_LEN);
+    assert_eq!(core::mem::size_of::<Behavior>(), 25);
+    assert_eq!(core::mem::size_of::<Module>(), 50);
+}
