@@ -1,5 +1,7 @@
 //! Every configured module's policy.
 
+use std::sync::Arc;
+
 use crate::{Module, Policy};
 
 /// Every module's policy; a module that does not support cooperation has none.
@@ -7,10 +9,13 @@ use crate::{Module, Policy};
 /// A built-in module has one slot, found by [`Module::index`] without a search; a module with
 /// an extension name is in a list sorted by module, found by binary search. Both are canonical
 /// (the list has no module twice), so the derived equality and hash are by contents.
+///
+/// The list is shared between clones until a policy in it changes: a state is cloned for every
+/// step a model checker takes, and its policies rarely change, so a clone allocates nothing.
 #[derive(Clone, PartialEq, Eq, Hash)]
 pub(super) struct Policies {
     builtin: [Option<Policy>; Module::COUNT],
-    extensions: Vec<(Module, Policy)>,
+    extensions: Arc<Vec<(Module, Policy)>>,
 }
 
 impl Policies {
@@ -32,11 +37,14 @@ impl Policies {
         match module.index() {
             Some(index) => self.builtin.get_mut(index).and_then(Option::as_mut),
             None => {
+                // Found in the shared list first: only a policy that is there is unshared.
                 let at = self
                     .extensions
                     .binary_search_by_key(&module, |&(listed, _)| listed)
                     .ok()?;
-                self.extensions.get_mut(at).map(|(_, policy)| policy)
+                Arc::make_mut(&mut self.extensions)
+                    .get_mut(at)
+                    .map(|(_, policy)| policy)
             }
         }
     }
@@ -80,7 +88,7 @@ impl FromIterator<(Module, Policy)> for Policies {
         extensions.reverse();
         Self {
             builtin,
-            extensions,
+            extensions: Arc::new(extensions),
         }
     }
 }
@@ -141,5 +149,13 @@ mod tests {
         let expected: Policies = [(valet, Policy::Required)].into_iter().collect();
         assert_eq!(policies, expected);
         assert!(policies.get_mut(extension("other", "")).is_none());
+        // A clone shares the list until one of them changes a policy in it.
+        let mut copy = policies.clone();
+        assert!(Arc::ptr_eq(&copy.extensions, &policies.extensions));
+        if let Some(policy) = copy.get_mut(valet) {
+            *policy = Policy::Optional;
+        }
+        assert_eq!(policies.get(valet), Some(Policy::Required));
+        assert_eq!(copy.get(valet), Some(Policy::Optional));
     }
 }
