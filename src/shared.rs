@@ -92,6 +92,31 @@ impl Shared {
         self.lock().get_policies()
     }
 
+    /// Runs `change` on the state with the lock held, for adapters whose calls take a
+    /// `&mut State`: the RTC interfaces ([`rtc::Rtc::interface`](crate::rtc::Rtc::interface)) or
+    /// the JSON services. Nothing is lost by handing out the state: its only way to change is
+    /// [`State::apply`], so whatever `change` does is a sequence of inputs, each applied whole or
+    /// not at all, and no other thread's input lands between them. Keep it short; every other
+    /// caller waits for it.
+    ///
+    /// ```
+    /// use cooperation::*;
+    ///
+    /// let lane_change = Module::new(Behavior::LaneChange);
+    /// let shared = Shared::new(State::new(Config::new([(lane_change, Policy::Optional)]))?);
+    /// let id = SceneId::from_u128(7);
+    /// let report = Report::new(Decision::Activate, Geometry::velocity(12.0));
+    /// let rule = shared.update(|state| {
+    ///     state.apply(&Input::Register { id, module: lane_change, report }).map(|t| t.rule)
+    /// })?;
+    /// assert_eq!(shared.read(|state| state.merged_decision(id)), Some(Decision::Activate));
+    /// # let _ = rule;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn update<R>(&self, change: impl FnOnce(&mut State) -> R) -> R {
+        change(&mut self.lock())
+    }
+
     /// Runs `query` on the state between two inputs: everything it reads is from one moment.
     /// Keep it short; every other caller waits for it.
     pub fn read<R>(&self, query: impl FnOnce(&State) -> R) -> R {

@@ -1,0 +1,171 @@
+//! One client's WebSocket: a reader that answers its frames and a writer that sends the
+//! answers and its topics' publications.
+//!
+//! - **Answers** wait in a bounded queue ([`Limits::queue`]). When it is full the reader stops
+//!   reading that client's frames until the writer catches up: a client that sends faster
+//!   than it reads slows only itself, and no answer is dropped.
+//! - **Publications** are not queued: each topic holds only its newest publication, and a
+//!   subscriber that is still sending an older one skips the ones in between. A slow
+//!   subscriber therefore gets fewer publications, each complete and current.
+//! - **A stalled client** (one frame not taken within [`Limits::write_timeout`]) is
+//!   disconnected.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::extract::ws::{CloseFrame, Message, Utf8Bytes, WebSocket};
+use futures_util::{SinkExt, StreamExt};
+use tokio::sync::{mpsc, watch};
+
+use crate::node::{Node, Topic};
+use crate::rosbridge::{self, Action};
+
+/// How much one connection may hold and take.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Limits {
+    /// Frames above this many bytes are refused with a `status` frame and the connection
+    /// goes on.
+    pub frame: usize,
+    /// Frames above this many bytes close the connection: it is not read any further.
+    pub hard_frame: usize,
+    /// Answers waiting to be sent, per connection.
+    pub queue: usize,
+    /// The longest a frame may take to be sent before the client is disconnected.
+    pub write_timeout: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            frame: 2 << 20,
+            hard_frame: 16 << 20,
+            queue: 64,
+            write_timeout: Duration::from_secs(10),
+        }
+    }
+}
+
+enum Out {
+    Frame(Utf8Bytes),
+    Subscribe(Topic),
+    Unsubscribe(Topic),
+}
+
+/// Serves one client until it leaves, stalls, or sends a frame over the hard limit.
+pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
+    let (sink, mut stream) = socket.split();
+    let (out, queue) = mpsc::channel(limits.queue.max(1));
+    let writer = tokio::spawn(write(sink, queue, Arc::clone(&node), limits));
+    while let Some(received) = stream.next().await {
+        let actions = match received {
+            Ok(Message::Text(text)) if text.len() > limits.frame => {
+                vec![Action::Send(rosbridge::error_status(
+                    &format!(
+                        "a frame of {} bytes, more than the {} this node reads",
+                        text.len(),
+                        limits.frame
+                    ),
+                    None,
+                ))]
+            }
+            Ok(Message::Text(text)) => rosbridge::handle(&node, text.as_str()),
+            Ok(Message::Binary(_)) => vec![Action::Send(rosbridge::error_status(
+                "a binary frame: this node reads rosbridge JSON in text frames (no CBOR or BSON)",
+                None,
+            ))],
+            Ok(Message::Close(_)) => break,
+            Ok(Message::Ping(_) | Message::Pong(_)) => Vec::new(),
+            Err(error) => {
+                tracing::info!(%error, "a client's connection failed");
+                break;
+            }
+        };
+        for action in actions {
+            let out_item = match action {
+                Action::Send(frame) => Out::Frame(Utf8Bytes::from(frame)),
+                Action::Subscribe(topic) => Out::Subscribe(topic),
+                Action::Unsubscribe(topic) => Out::Unsubscribe(topic),
+            };
+            if out.send(out_item).await.is_err() {
+                break;
+            }
+        }
+    }
+    drop(out);
+    if let Err(error) = writer.await {
+        tracing::error!(%error, "a connection's writer failed");
+    }
+}
+
+async fn write<S>(mut sink: S, mut queue: mpsc::Receiver<Out>, node: Arc<Node>, limits: Limits)
+where
+    S: futures_util::Sink<Message> + Unpin,
+    S::Error: std::fmt::Display,
+{
+    let mut velocity = node.subscribe(Topic::Velocity);
+    let mut steering = node.subscribe(Topic::Steering);
+    let (mut to_velocity, mut to_steering) = (false, false);
+    loop {
+        let frame = tokio::select! {
+            biased;
+            item = queue.recv() => match item {
+                Some(Out::Frame(frame)) => frame,
+                Some(Out::Subscribe(topic)) => {
+                    subscription(topic, true, &mut to_velocity, &mut to_steering, &mut velocity, &mut steering);
+                    continue;
+                }
+                Some(Out::Unsubscribe(topic)) => {
+                    subscription(topic, false, &mut to_velocity, &mut to_steering, &mut velocity, &mut steering);
+                    continue;
+                }
+                None => break,
+            },
+            changed = velocity.changed(), if to_velocity => match changed {
+                Ok(()) => velocity.borrow_and_update().clone(),
+                Err(_) => break,
+            },
+            changed = steering.changed(), if to_steering => match changed {
+                Ok(()) => steering.borrow_and_update().clone(),
+                Err(_) => break,
+            },
+        };
+        match tokio::time::timeout(limits.write_timeout, sink.send(Message::Text(frame))).await {
+            Ok(Ok(())) => {}
+            Ok(Err(error)) => {
+                tracing::info!(%error, "a client's connection failed");
+                break;
+            }
+            Err(_) => {
+                tracing::warn!(
+                    timeout = ?limits.write_timeout,
+                    "a client took no frame for too long; disconnected"
+                );
+                break;
+            }
+        }
+    }
+    let close = Message::Close(Some(CloseFrame {
+        code: 1000,
+        reason: Utf8Bytes::default(),
+    }));
+    let _closed = tokio::time::timeout(Duration::from_secs(1), sink.send(close)).await;
+}
+
+/// Starts or stops a topic; a new subscriber is sent the newest publication at once.
+fn subscription(
+    topic: Topic,
+    on: bool,
+    to_velocity: &mut bool,
+    to_steering: &mut bool,
+    velocity: &mut watch::Receiver<Utf8Bytes>,
+    steering: &mut watch::Receiver<Utf8Bytes>,
+) {
+    let (flag, receiver) = match topic {
+        Topic::Velocity => (to_velocity, velocity),
+        Topic::Steering => (to_steering, steering),
+    };
+    if on && !*flag {
+        receiver.mark_changed();
+    }
+    *flag = on;
+}

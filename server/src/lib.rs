@@ -1,0 +1,155 @@
+//! `cooperation-server`: the cooperation AD API served over the rosbridge v2 protocol, with an
+//! operator panel in a browser.
+//!
+//! One port serves a WebSocket for rosbridge clients (operators and planning modules) and,
+//! over plain HTTP, the operator panel. The verified core sits behind
+//! [`cooperation::Shared`] in a [`Node`]; the node's clock ([`clock`]) is the only place time
+//! is read. `docs/server.md` describes the protocol, the planning modules' service and the
+//! limits.
+
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
+
+pub mod clock;
+pub mod connection;
+pub mod node;
+mod panel;
+pub mod rosbridge;
+pub mod sync;
+
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::extract::ws::WebSocketUpgrade;
+use axum::extract::State as Extracted;
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::Router;
+use tokio::net::TcpListener;
+use tokio::sync::Semaphore;
+
+pub use connection::Limits;
+pub use node::{Node, Topic};
+
+/// How the node runs.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Options {
+    /// The interval between periodic publications of the factors.
+    pub publish_every: Duration,
+    /// The interval between ticks of the core's clock.
+    pub tick_every: Duration,
+    /// At most this many clients at once; one more is answered HTTP 503.
+    pub max_clients: usize,
+    /// Each connection's limits.
+    pub limits: Limits,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            publish_every: Duration::from_millis(200),
+            tick_every: Duration::from_millis(100),
+            max_clients: 256,
+            limits: Limits::default(),
+        }
+    }
+}
+
+#[derive(Clone)]
+struct App {
+    node: Arc<Node>,
+    clients: Arc<Semaphore>,
+    limits: Limits,
+}
+
+/// Serves `node` on `listener` until `shutdown` completes: the WebSocket, the panel, the
+/// periodic publications and the clock.
+///
+/// # Errors
+/// The listener's failure.
+pub async fn serve(
+    listener: TcpListener,
+    node: Arc<Node>,
+    options: Options,
+    shutdown: impl std::future::Future<Output = ()> + Send + 'static,
+) -> std::io::Result<()> {
+    let publisher = tokio::spawn(publish(Arc::clone(&node), options.publish_every));
+    let ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
+    let app = App {
+        node,
+        clients: Arc::new(Semaphore::new(options.max_clients)),
+        limits: options.limits,
+    };
+    let router = Router::new()
+        .route("/", get(root))
+        .merge(panel::routes())
+        .with_state(app);
+    let served = axum::serve(listener, router)
+        .with_graceful_shutdown(shutdown)
+        .await;
+    publisher.abort();
+    ticker.abort();
+    served
+}
+
+/// Binds `address`.
+///
+/// # Errors
+/// The bind's failure.
+pub async fn bind(address: SocketAddr) -> std::io::Result<TcpListener> {
+    TcpListener::bind(address).await
+}
+
+/// `/`: a WebSocket upgrade is a rosbridge client; anything else gets the panel.
+async fn root(
+    Extracted(app): Extracted<App>,
+    upgrade: Result<WebSocketUpgrade, axum::extract::ws::rejection::WebSocketUpgradeRejection>,
+) -> Response {
+    let Ok(upgrade) = upgrade else {
+        return panel::page().into_response();
+    };
+    let Ok(permit) = Arc::clone(&app.clients).try_acquire_owned() else {
+        tracing::warn!("a client refused: the node serves as many as it may");
+        return (
+            axum::http::StatusCode::SERVICE_UNAVAILABLE,
+            "this node serves as many clients as it may; try again later",
+        )
+            .into_response();
+    };
+    let limits = app.limits;
+    upgrade
+        .max_message_size(limits.hard_frame)
+        .max_frame_size(limits.hard_frame)
+        .on_upgrade(move |socket| async move {
+            connection::serve(socket, app.node, limits).await;
+            drop(permit);
+        })
+}
+
+/// Publishes both topics periodically, and soon after a change is announced.
+async fn publish(node: Arc<Node>, every: Duration) {
+    let mut interval = tokio::time::interval(every);
+    interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    loop {
+        tokio::select! {
+            _ = interval.tick() => {}
+            () = node.publish_asked() => {}
+        }
+        node.publish();
+    }
+}
+
+/// Ticks the core from the node's monotonic clock.
+async fn tick(node: Arc<Node>, every: Duration) {
+    let mut interval = tokio::time::interval(every);
+    interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    loop {
+        interval.tick().await;
+        node.tick();
+    }
+}

@@ -1,0 +1,81 @@
+//! `cooperation-server`: serves the cooperation AD API over rosbridge, and the operator panel.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Duration;
+
+use clap::Parser;
+use cooperation_server::{Node, Options};
+
+/// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
+/// steering factors) and the planning modules' sync service over the rosbridge v2 protocol,
+/// and the operator panel at http://ADDR/.
+#[derive(Parser, Debug)]
+#[command(version)]
+struct Args {
+    /// The address to listen on.
+    #[arg(long, default_value = "127.0.0.1:9090")]
+    listen: SocketAddr,
+    /// The settings file with the modules' default policies and the limits.
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/cooperation.param.yaml"))]
+    settings: PathBuf,
+    /// Periodic publications of the factors per second (they are also published on change).
+    #[arg(long, default_value_t = 5.0)]
+    rate: f64,
+    /// At most this many clients at once.
+    #[arg(long, default_value_t = 256)]
+    max_clients: usize,
+}
+
+#[tokio::main]
+async fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .init();
+    let args = Args::parse();
+    match run(args).await {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            tracing::error!("{message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+async fn run(args: Args) -> Result<(), String> {
+    if !(args.rate.is_finite() && args.rate > 0.0 && args.rate <= 1000.0) {
+        return Err(format!(
+            "--rate {}: give a rate above 0 and at most 1000",
+            args.rate
+        ));
+    }
+    let text = std::fs::read_to_string(&args.settings)
+        .map_err(|error| format!("{}: {error}", args.settings.display()))?;
+    let config = cooperation::settings::parse(&text)
+        .map_err(|error| format!("{}: {error}", args.settings.display()))?;
+    let node = Node::new(config).map_err(|error| error.to_string())?;
+    let options = Options {
+        publish_every: Duration::from_secs_f64(1.0 / args.rate),
+        max_clients: args.max_clients,
+        ..Options::default()
+    };
+    let listener = cooperation_server::bind(args.listen)
+        .await
+        .map_err(|error| format!("cannot listen on {}: {error}", args.listen))?;
+    tracing::info!(
+        "serving rosbridge on ws://{0}/ and the operator panel on http://{0}/",
+        args.listen
+    );
+    let shutdown = async {
+        let _ = tokio::signal::ctrl_c().await;
+        tracing::info!("shutting down");
+    };
+    cooperation_server::serve(listener, Arc::new(node), options, shutdown)
+        .await
+        .map_err(|error| error.to_string())
+}

@@ -1,0 +1,222 @@
+//! The node: the verified core behind [`Shared`], the RTC interfaces beside it, the clock that
+//! ticks it, and the two factor streams.
+//!
+//! Every service call, module sync and tick is one short critical section on the core; the
+//! streams are serialized once per publication and handed to every subscriber as the same
+//! bytes.
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use axum::extract::ws::Utf8Bytes;
+use cooperation::rtc::Rtc;
+use cooperation::wire::{self, Service};
+use cooperation::{Config, ConfigError, State};
+use serde::Serialize;
+use tokio::sync::{watch, Notify};
+
+use crate::clock::Clock;
+use crate::sync;
+
+/// The two topics the node publishes.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Topic {
+    /// `/api/planning/velocity_factors`.
+    Velocity,
+    /// `/api/planning/steering_factors`.
+    Steering,
+}
+
+impl Topic {
+    /// Both topics.
+    pub const ALL: [Self; 2] = [Self::Velocity, Self::Steering];
+
+    /// The topic's name.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Velocity => "/api/planning/velocity_factors",
+            Self::Steering => "/api/planning/steering_factors",
+        }
+    }
+
+    /// The topic's message type.
+    #[must_use]
+    pub const fn type_name(self) -> &'static str {
+        match self {
+            Self::Velocity => "autoware_adapi_v1_msgs/msg/VelocityFactorArray",
+            Self::Steering => "autoware_adapi_v1_msgs/msg/SteeringFactorArray",
+        }
+    }
+
+    /// The topic named `name`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|topic| topic.name() == name)
+    }
+}
+
+/// What the node serves, and the core it serves it from.
+#[derive(Debug)]
+pub struct Node {
+    shared: cooperation::Shared,
+    /// The RTC interfaces' routing. Locked before the core, never after it.
+    rtc: Mutex<Rtc>,
+    clock: Clock,
+    /// Held while a publication is read and sent, so publications leave in the order their
+    /// states were read: a stream never goes back to an older state.
+    publishing: Mutex<()>,
+    velocity: watch::Sender<Utf8Bytes>,
+    steering: watch::Sender<Utf8Bytes>,
+    /// Woken by a change that should be published soon (module syncs, expiries).
+    changed: Notify,
+    /// The monotonic time of the last tick, in milliseconds.
+    ticked_ms: Mutex<u64>,
+}
+
+/// A lock whose holder panicked is used as it is: the core's own lock explains why the core
+/// cannot be half-changed, and the node's other locks guard no invariant a panic could break.
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A `publish` frame of rosbridge.
+#[derive(Serialize)]
+struct Publish<'a, M> {
+    op: &'static str,
+    topic: &'static str,
+    msg: &'a M,
+}
+
+fn publish_frame<M: Serialize>(topic: Topic, msg: &M) -> Utf8Bytes {
+    let frame = Publish {
+        op: "publish",
+        topic: topic.name(),
+        msg,
+    };
+    Utf8Bytes::from(serde_json::to_string(&frame).unwrap_or_default())
+}
+
+impl Node {
+    /// A node over a new core with `config`, and the standard RTC interfaces.
+    ///
+    /// # Errors
+    /// The core's refusal of the configuration.
+    pub fn new(config: Config) -> Result<Self, ConfigError> {
+        let state = State::new(config)?;
+        let (velocity, _) = watch::channel(Utf8Bytes::default());
+        let (steering, _) = watch::channel(Utf8Bytes::default());
+        let node = Self {
+            shared: cooperation::Shared::new(state),
+            rtc: Mutex::new(Rtc::standard()),
+            clock: Clock::start(),
+            publishing: Mutex::new(()),
+            velocity,
+            steering,
+            changed: Notify::new(),
+            ticked_ms: Mutex::new(0),
+        };
+        node.publish();
+        Ok(node)
+    }
+
+    /// The core, for reading.
+    #[must_use]
+    pub const fn shared(&self) -> &cooperation::Shared {
+        &self.shared
+    }
+
+    /// The node's clock.
+    #[must_use]
+    pub const fn clock(&self) -> &Clock {
+        &self.clock
+    }
+
+    /// A receiver of `topic`'s publications: always the newest, earlier ones skipped.
+    #[must_use]
+    pub fn subscribe(&self, topic: Topic) -> watch::Receiver<Utf8Bytes> {
+        match topic {
+            Topic::Velocity => self.velocity.subscribe(),
+            Topic::Steering => self.steering.subscribe(),
+        }
+    }
+
+    /// Reads both streams from the core as it is now and publishes them.
+    pub fn publish(&self) {
+        let _order = lock(&self.publishing);
+        let stamp = self.clock.stamp();
+        let (velocity, steering) = self.shared.read(|state| {
+            (
+                wire::velocity_factors(state, stamp),
+                wire::steering_factors(state, stamp),
+            )
+        });
+        self.velocity
+            .send_replace(publish_frame(Topic::Velocity, &velocity));
+        self.steering
+            .send_replace(publish_frame(Topic::Steering, &steering));
+    }
+
+    /// Asks the publishing task to publish soon; several asks before it runs make one
+    /// publication.
+    pub fn publish_soon(&self) {
+        self.changed.notify_one();
+    }
+
+    /// Waits for [`publish_soon`](Self::publish_soon).
+    pub async fn publish_asked(&self) {
+        self.changed.notified().await;
+    }
+
+    /// An AD API service call, from the request's JSON to the response's. A call that changed
+    /// the core is published before this returns, so the caller's next publication shows it.
+    #[must_use]
+    pub fn call(&self, service: Service, args: &[u8]) -> Vec<u8> {
+        let response = self.shared.update(|state| service.call_json(state, args));
+        if service != Service::GetPolicies && succeeded(&response) {
+            self.publish();
+        }
+        response
+    }
+
+    /// A planning module's sync (`docs/server.md`), from JSON to JSON.
+    #[must_use]
+    pub fn sync(&self, args: &[u8]) -> Vec<u8> {
+        let mut rtc = lock(&self.rtc);
+        let stamp = self.clock.stamp();
+        let (response, changed) = self
+            .shared
+            .update(|state| sync::answer(&mut rtc, state, args, stamp));
+        drop(rtc);
+        if changed {
+            self.publish_soon();
+        }
+        wire::to_json(&response)
+    }
+
+    /// Tells the core how much monotonic time passed since the last tick; publishes soon if
+    /// scenes expired.
+    pub fn tick(&self) {
+        let mut rtc = lock(&self.rtc);
+        let now = self.clock.elapsed_ms();
+        let mut ticked = lock(&self.ticked_ms);
+        let elapsed_ms = now.saturating_sub(*ticked);
+        *ticked = now;
+        drop(ticked);
+        let expired = self
+            .shared
+            .update(|state| rtc.tick(state, elapsed_ms))
+            .map(|transition| !transition.retired.is_empty());
+        drop(rtc);
+        match expired {
+            Ok(true) => self.publish_soon(),
+            Ok(false) => {}
+            Err(error) => tracing::error!(%error, "the core refused a tick"),
+        }
+    }
+}
+
+/// Whether a `set_*` response's status is a success.
+fn succeeded(response: &[u8]) -> bool {
+    wire::from_json::<wire::SetCooperationCommandsResponse>(response)
+        .is_ok_and(|response| response.status.success)
+}

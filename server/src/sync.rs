@@ -1,0 +1,217 @@
+//! The planning modules' service, `/cooperation/rtc/sync`: one round trip per planning cycle.
+//!
+//! A module sends every scene it reports this cycle as a `tier4_rtc_msgs/CooperateStatus` and
+//! the identifiers it removes; the node applies each through the module's RTC interface
+//! ([`cooperation::rtc::Interface`]) and answers with the interface's statuses and each live
+//! scene's merged decision. `docs/server.md` shows the shapes.
+
+use cooperation::rtc::{CooperateStatus, CooperateStatusArray, Interface, Rtc, Time, Uuid};
+use cooperation::{SceneId, Sequence, State};
+use serde::{Deserialize, Serialize};
+
+/// The service's name.
+pub const NAME: &str = "/cooperation/rtc/sync";
+/// The service's type.
+pub const TYPE: &str = "cooperation_server/srv/SyncCooperateStatus";
+
+/// The request.
+#[derive(Clone, PartialEq, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SyncRequest {
+    /// The RTC interface the module reports through, e.g. `lane_change_left`.
+    pub interface: String,
+    /// This cycle's statuses, applied in order, each as `updateCooperateStatus`. `module`,
+    /// `command_status`, `auto_mode` and `stamp` are the node's to fill: they are not read.
+    #[serde(default)]
+    pub statuses: Vec<CooperateStatus>,
+    /// The sequence of each new scene of an interface that binds several (the avoidances).
+    #[serde(default)]
+    pub sequences: Vec<StatedSequence>,
+    /// Scenes the module removes, after the statuses, each as `removeCooperateStatus`.
+    #[serde(default)]
+    pub removed: Vec<Uuid>,
+}
+
+/// A scene's sequence.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StatedSequence {
+    /// The scene.
+    pub uuid: Uuid,
+    /// Its sequence, as the AD API writes it (`change`, `return`).
+    pub sequence: Sequence,
+}
+
+/// The response.
+#[derive(Clone, PartialEq, Debug, Default, Serialize, Deserialize)]
+pub struct SyncResponse {
+    /// Every status and removal applied.
+    pub success: bool,
+    /// Why the request as a whole was refused (an unknown interface, a malformed request);
+    /// empty otherwise.
+    pub message: String,
+    /// One result per status, then one per removal, in the request's order.
+    pub results: Vec<SyncResult>,
+    /// The interface's statuses after the sync, as upstream publishes them on
+    /// `/planning/cooperate_status/<interface>`.
+    pub statuses: CooperateStatusArray,
+    /// Each of the interface's live scenes' merged decision and force flags.
+    pub activations: Vec<Activation>,
+}
+
+/// What became of one status or removal.
+#[derive(Clone, PartialEq, Eq, Debug, Serialize, Deserialize)]
+pub struct SyncResult {
+    /// The scene.
+    pub uuid: Uuid,
+    /// It applied.
+    pub success: bool,
+    /// Why not, when it did not.
+    pub message: String,
+}
+
+/// A live scene's merged decision: what upstream's `isActivated` and the force queries answer.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize, Deserialize)]
+pub struct Activation {
+    /// The scene.
+    pub uuid: Uuid,
+    /// The merged decision is activate.
+    pub activated: bool,
+    /// An operator activated it.
+    pub force_activated: bool,
+    /// An operator deactivated it.
+    pub force_deactivated: bool,
+}
+
+/// A request's answer from the core, and whether anything changed.
+pub fn answer(rtc: &mut Rtc, state: &mut State, args: &[u8], stamp: Time) -> (SyncResponse, bool) {
+    let request: SyncRequest = match read(args) {
+        Ok(request) => request,
+        Err(message) => return (refused(message), false),
+    };
+    let mut interface = match rtc.interface(state, &request.interface) {
+        Ok(interface) => interface,
+        Err(error) => return (refused(error.to_string()), false),
+    };
+    let mut changed = false;
+    let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
+    for status in &request.statuses {
+        let outcome = report(&mut interface, status, &request.sequences);
+        changed |= outcome.is_ok();
+        results.push(result(status.uuid, outcome));
+    }
+    for &uuid in &request.removed {
+        let outcome = interface
+            .remove_cooperate_status(SceneId::from(uuid))
+            .map(drop);
+        changed |= outcome.is_ok();
+        results.push(result(uuid, outcome));
+    }
+    let view = interface.view();
+    let statuses = view.cooperate_status_array(stamp);
+    let activations = statuses
+        .statuses
+        .iter()
+        .map(|status| {
+            let id = SceneId::from(status.uuid);
+            Activation {
+                uuid: status.uuid,
+                activated: view.is_activated(id),
+                force_activated: view.is_force_activated(id),
+                force_deactivated: view.is_force_deactivated(id),
+            }
+        })
+        .collect();
+    let response = SyncResponse {
+        success: results.iter().all(|result| result.success),
+        message: String::new(),
+        results,
+        statuses,
+        activations,
+    };
+    (response, changed)
+}
+
+/// One status, through `updateCooperateStatus`, or its `_in` form when its sequence is stated.
+fn report(
+    interface: &mut Interface<'_>,
+    status: &CooperateStatus,
+    sequences: &[StatedSequence],
+) -> Result<(), cooperation::rtc::RtcError> {
+    let id = SceneId::from(status.uuid);
+    let stated = sequences.iter().find(|stated| stated.uuid == status.uuid);
+    let CooperateStatus {
+        safe,
+        requested,
+        state,
+        start_distance,
+        finish_distance,
+        ..
+    } = *status;
+    match stated {
+        Some(stated) => interface.update_cooperate_status_in(
+            id,
+            stated.sequence,
+            safe,
+            state.r#type,
+            start_distance,
+            finish_distance,
+            requested,
+        ),
+        None => interface.update_cooperate_status(
+            id,
+            safe,
+            state.r#type,
+            start_distance,
+            finish_distance,
+            requested,
+        ),
+    }
+    .map(drop)
+}
+
+fn result<E: ToString>(uuid: Uuid, outcome: Result<(), E>) -> SyncResult {
+    match outcome {
+        Ok(()) => SyncResult {
+            uuid,
+            success: true,
+            message: String::new(),
+        },
+        Err(error) => SyncResult {
+            uuid,
+            success: false,
+            message: error.to_string(),
+        },
+    }
+}
+
+fn refused(message: String) -> SyncResponse {
+    SyncResponse {
+        success: false,
+        message,
+        ..SyncResponse::default()
+    }
+}
+
+/// The request, or a message naming the field that does not decode.
+fn read(args: &[u8]) -> Result<SyncRequest, String> {
+    if args.len() > cooperation::wire::MAX_REQUEST_BYTES {
+        return Err(format!(
+            "the request is {} bytes, more than the {} a request may have",
+            args.len(),
+            cooperation::wire::MAX_REQUEST_BYTES
+        ));
+    }
+    let mut reader = serde_json::Deserializer::from_slice(args);
+    let request: SyncRequest = serde_path_to_error::deserialize(&mut reader).map_err(|error| {
+        let path = error.path().to_string();
+        let inner = error.into_inner();
+        if path == "." {
+            inner.to_string()
+        } else {
+            format!("{path}: {inner}")
+        }
+    })?;
+    reader.end().map_err(|error| error.to_string())?;
+    Ok(request)
+}
