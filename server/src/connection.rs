@@ -55,8 +55,22 @@ enum Out {
 pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
     let (sink, mut stream) = socket.split();
     let (out, queue) = mpsc::channel(limits.queue.max(1));
-    let writer = tokio::spawn(write(sink, queue, Arc::clone(&node), limits));
-    while let Some(received) = stream.next().await {
+    let mut writer = tokio::spawn(write(sink, queue, Arc::clone(&node), limits));
+    let mut writer_done = false;
+    loop {
+        // When the writer gives up on the client (it stalled), the reading stops too, so
+        // the connection closes.
+        let received = tokio::select! {
+            received = stream.next() => received,
+            done = &mut writer => {
+                writer_done = true;
+                if let Err(error) = done {
+                    tracing::error!(%error, "a connection's writer failed");
+                }
+                None
+            }
+        };
+        let Some(received) = received else { break };
         let actions = match received {
             Ok(Message::Text(text)) if text.len() > limits.frame => {
                 vec![Action::Send(rosbridge::error_status(
@@ -92,8 +106,10 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
         }
     }
     drop(out);
-    if let Err(error) = writer.await {
-        tracing::error!(%error, "a connection's writer failed");
+    if !writer_done {
+        if let Err(error) = writer.await {
+            tracing::error!(%error, "a connection's writer failed");
+        }
     }
 }
 

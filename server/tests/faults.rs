@@ -1,0 +1,153 @@
+//! Faults the node serves through (`docs/server.md`, *Limits and faults*): clients that leave
+//! mid-call, subscribers too slow for the stream, and the promise that the publication after
+//! an accepted command shows it.
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use common::{operator_decision, serve, status, Client, WAIT};
+use cooperation_server::{Limits, Options};
+use serde_json::json;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_publication_after_an_accepted_command_shows_it() {
+    let served = serve(Options::default()).await;
+    let mut module = Client::connect(&served.url).await;
+    let synced = module
+        .sync("intersection", vec![status(3, true, 12.0)])
+        .await;
+    assert_eq!(synced["success"], true, "{synced}");
+    let mut operator = Client::connect(&served.url).await;
+    operator.subscribe("/api/planning/velocity_factors").await;
+    for round in 0..60_u8 {
+        // Deactivate, activate, autonomous, in turn.
+        let decision = 1 + round % 3;
+        let response = operator.set_commands(&[(3, decision)]).await;
+        assert_eq!(response["values"]["status"]["success"], true, "{response}");
+        let publication = operator.next_op("publish").await;
+        assert_eq!(
+            operator_decision(&publication, 3),
+            Some(u64::from(decision)),
+            "round {round}: the first publication after the response: {publication}"
+        );
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_leaving_mid_call_loses_nothing_and_stops_nothing() {
+    let served = serve(Options::default()).await;
+    let mut module = Client::connect(&served.url).await;
+    let scenes: Vec<_> = (1..=20).map(|n| status(n, true, 10.0 + n as f32)).collect();
+    module.sync("crosswalk", scenes).await;
+    for round in 0..20_u128 {
+        let mut leaving = Client::connect(&served.url).await;
+        let commands: Vec<_> = (1..=20)
+            .map(|n| json!({"uuid": common::uuid(n), "cooperator": {"decision": 2}}))
+            .collect();
+        let frame = json!({"op": "call_service", "id": "gone", "service": "/api/planning/cooperation/set_commands", "args": {"commands": commands}});
+        leaving.send(&frame).await;
+        if round % 2 == 0 {
+            // Gone without a close handshake.
+            drop(leaving);
+        } else {
+            let _ = leaving.ws.close(None).await;
+        }
+    }
+    // Every batch applied whole or not at all: every scene has the same operator decision,
+    // and the node answers the next client.
+    let mut operator = Client::connect(&served.url).await;
+    operator.subscribe("/api/planning/velocity_factors").await;
+    let publication = operator.next_op("publish").await;
+    let decisions: Vec<_> = (1..=20)
+        .map(|n| operator_decision(&publication, n))
+        .collect();
+    assert!(
+        decisions.iter().all(|d| *d == decisions[0]),
+        "{decisions:?}"
+    );
+    let response = operator.set_commands(&[(5, 1)]).await;
+    assert_eq!(response["values"]["status"]["success"], true, "{response}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stalled_subscriber_is_disconnected_and_others_are_served_meanwhile() {
+    let limits = Limits {
+        write_timeout: Duration::from_millis(500),
+        ..Limits::default()
+    };
+    let served = serve(Options {
+        publish_every: Duration::from_millis(10),
+        limits,
+        ..Options::default()
+    })
+    .await;
+    let mut module = Client::connect(&served.url).await;
+    // Big publications, to fill the stalled client's socket buffers quickly.
+    for batch in 0..5_u128 {
+        let scenes: Vec<_> = (0..100)
+            .map(|n| status(batch * 100 + n + 1, true, 5.0))
+            .collect();
+        let synced = module.sync("intersection", scenes).await;
+        assert_eq!(synced["success"], true);
+    }
+    let mut stalled = Client::connect(&served.url).await;
+    stalled.subscribe("/api/planning/velocity_factors").await;
+    // While it reads nothing, another client's calls are answered.
+    let mut operator = Client::connect(&served.url).await;
+    let started = Instant::now();
+    while started.elapsed() < Duration::from_secs(3) {
+        let call = tokio::time::timeout(
+            Duration::from_secs(1),
+            operator.call("/api/planning/cooperation/get_policies", json!({})),
+        )
+        .await
+        .expect("answered within a second while another client stalls");
+        assert_eq!(call["values"]["status"]["success"], true);
+    }
+    // The stalled client gets what was buffered before the node gave up on it, and then the
+    // end of the connection: far fewer publications than were sent in those 3 s (300).
+    let mut received = 0;
+    let deadline = Instant::now() + WAIT;
+    while let Some(frame) = stalled.next().await {
+        assert!(
+            Instant::now() < deadline,
+            "the stalled client was not disconnected"
+        );
+        if frame["op"] == "publish" {
+            received += 1;
+        }
+    }
+    assert!(
+        received < 300,
+        "{received} publications reached a client that read nothing"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_slow_subscriber_skips_publications_and_each_is_whole_and_current() {
+    let served = serve(Options {
+        publish_every: Duration::from_millis(5),
+        ..Options::default()
+    })
+    .await;
+    let mut module = Client::connect(&served.url).await;
+    module.sync("crosswalk", vec![status(1, true, 9.0)]).await;
+    let mut slow = Client::connect(&served.url).await;
+    slow.subscribe("/api/planning/velocity_factors").await;
+    let mut stamps = Vec::new();
+    for _ in 0..10 {
+        tokio::time::sleep(Duration::from_millis(100)).await;
+        let publication = slow.next_op("publish").await;
+        assert!(
+            operator_decision(&publication, 1).is_some(),
+            "{publication}"
+        );
+        let stamp = &publication["msg"]["header"]["stamp"];
+        stamps.push((stamp["sec"].as_i64(), stamp["nanosec"].as_i64()));
+    }
+    assert!(
+        stamps.windows(2).all(|pair| pair[0] < pair[1]),
+        "{stamps:?}"
+    );
+}
