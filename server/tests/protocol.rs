@@ -256,3 +256,65 @@ async fn a_module_scene_reaches_the_operator_and_takes_the_operator_command() {
         }
     }
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_over_the_limit_is_answered_503_and_the_others_are_served() {
+    let served = serve(Options {
+        max_clients: 2,
+        ..Options::default()
+    })
+    .await;
+    let mut first = Client::connect(&served.url).await;
+    let _second = Client::connect(&served.url).await;
+    let refused = tokio_tungstenite::connect_async(served.url.as_str()).await;
+    match refused {
+        Err(tokio_tungstenite::tungstenite::Error::Http(response)) => {
+            assert_eq!(response.status(), 503);
+        }
+        other => panic!(
+            "a third client was not refused: {:?}",
+            other.map(|(_, r)| r)
+        ),
+    }
+    let answer = first
+        .call("/api/planning/cooperation/get_policies", json!({}))
+        .await;
+    assert_eq!(answer["values"]["status"]["success"], true);
+    // A place frees when a client leaves.
+    drop(first);
+    let mut third = None;
+    for _ in 0..100 {
+        if let Ok((ws, _)) = tokio_tungstenite::connect_async(served.url.as_str()).await {
+            third = Some(ws);
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    assert!(
+        third.is_some(),
+        "the place of a client that left was not freed"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_sending_faster_than_it_reads_loses_no_answer() {
+    let served = serve(Options {
+        limits: Limits {
+            queue: 4,
+            ..Limits::default()
+        },
+        ..Options::default()
+    })
+    .await;
+    let mut client = Client::connect(&served.url).await;
+    for n in 0..500 {
+        client
+            .send(&json!({"op": "call_service", "id": n, "service": "/api/planning/cooperation/get_policies"}))
+            .await;
+    }
+    for n in 0..500 {
+        let response = client.next_op("service_response").await;
+        assert_eq!(response["id"], n, "answers in order, none dropped");
+        assert_eq!(response["result"], true);
+    }
+}
