@@ -1,4 +1,4 @@
-//! The node: the verified core behind [`Shared`], the RTC interfaces beside it, the clock that
+//! The node: the verified core behind [`Shared`](cooperation::Shared), the RTC interfaces beside it, the clock that
 //! ticks it, and the two factor streams.
 //!
 //! Every service call, module sync and tick is one short critical section on the core; the
