@@ -1,1 +1,413 @@
+// The operator panel: the scenes of both factor streams, nearest first, with the four operator
+// decisions; the modules' policies as switches; the node's answers. Everything shown comes
+// from the node: a decision or a policy is drawn from the next publication or get_policies,
+// never assumed from a click.
+'use strict';
 
+(function () {
+  const DECISION = { UNKNOWN: 0, DEACTIVATE: 1, ACTIVATE: 2, AUTONOMOUS: 3, UNDECIDED: 4 };
+  const DECISION_NAME = { 0: 'unknown', 1: 'deactivate', 2: 'activate', 3: 'autonomous', 4: 'none' };
+  // The operator's choices, in the order of the buttons.
+  const CHOICES = [
+    { decision: DECISION.DEACTIVATE, label: 'Deactivate' },
+    { decision: DECISION.ACTIVATE, label: 'Activate' },
+    { decision: DECISION.AUTONOMOUS, label: 'Autonomous' },
+    { decision: DECISION.UNDECIDED, label: 'None' },
+  ];
+  const POLICY = { OPTIONAL: 1, REQUIRED: 2 };
+  const STEERING_DIRECTION = { 1: 'left', 2: 'right', 3: 'straight' };
+  const SERVICE = {
+    setCommands: ['/api/planning/cooperation/set_commands', 'autoware_adapi_v1_msgs/srv/SetCooperationCommands'],
+    setPolicies: ['/api/planning/cooperation/set_policies', 'autoware_adapi_v1_msgs/srv/SetCooperationPolicies'],
+    getPolicies: ['/api/planning/cooperation/get_policies', 'autoware_adapi_v1_msgs/srv/GetCooperationPolicies'],
+  };
+  const TOPIC = {
+    velocity: ['/api/planning/velocity_factors', 'autoware_adapi_v1_msgs/msg/VelocityFactorArray'],
+    steering: ['/api/planning/steering_factors', 'autoware_adapi_v1_msgs/msg/SteeringFactorArray'],
+  };
+  // A call the node has not answered in this time is reported as unanswered.
+  const CALL_TIMEOUT_MS = 5000;
+  const POLICY_REFRESH_MS = 5000;
+
+  const $ = (id) => document.getElementById(id);
+  const rowsBody = $('scene-rows');
+  const policyList = $('policies');
+
+  let ros = null;
+  let connected = false;
+  let reconnectDelay = 500;
+  const factors = { velocity: [], steering: [] };
+  const rows = new Map(); // uuid hex -> <tr>
+  const pendingScenes = new Set(); // uuid hex of scenes with a command in flight
+  const pendingPolicies = new Set(); // policy keys with a setting in flight
+  let policyRequest = 0; // the newest get_policies; older answers are dropped
+
+  // --- Small helpers --------------------------------------------------------------------------
+
+  // A UUID's bytes: this node writes a list of numbers; rosbridge writes base64.
+  function uuidBytes(uuid) {
+    const value = uuid && uuid.uuid;
+    if (Array.isArray(value)) return value.slice();
+    if (typeof value === 'string') return Array.from(atob(value), (c) => c.charCodeAt(0));
+    return [];
+  }
+
+  function hex(bytes) {
+    return bytes.map((b) => b.toString(16).padStart(2, '0')).join('');
+  }
+
+  function formatUuid(h) {
+    return h.length === 32
+      ? `${h.slice(0, 8)}-${h.slice(8, 12)}-${h.slice(12, 16)}-${h.slice(16, 20)}-${h.slice(20)}`
+      : h;
+  }
+
+  function moduleName(behavior, sequence) {
+    return sequence ? `${behavior} / ${sequence}` : behavior;
+  }
+
+  // A distance as the node wrote it: a number, or null for a non-finite one.
+  function metres(value) {
+    return typeof value === 'number' ? `${value.toFixed(1)} m` : '—';
+  }
+
+  function sortKey(value) {
+    return typeof value === 'number' ? value : Infinity;
+  }
+
+  function setText(element, text) {
+    if (element.textContent !== text) element.textContent = text;
+  }
+
+  function setAttr(element, name, value) {
+    if (element.getAttribute(name) !== value) element.setAttribute(name, value);
+  }
+
+  function el(tag, attributes, children) {
+    const element = document.createElement(tag);
+    for (const [name, value] of Object.entries(attributes || {})) element.setAttribute(name, value);
+    for (const child of children || []) {
+      element.append(child);
+    }
+    return element;
+  }
+
+  // --- The message area -----------------------------------------------------------------------
+
+  function say(kind, text) {
+    const area = $('message');
+    area.dataset.kind = kind;
+    area.textContent = text;
+  }
+
+  // --- Connection -----------------------------------------------------------------------------
+
+  function showConnection(state, text) {
+    const indicator = $('connection');
+    indicator.dataset.state = state;
+    setText($('connection-text'), text);
+  }
+
+  function connect() {
+    const url = `ws://${location.host}/`;
+    showConnection('connecting', `Connecting to ${location.host}…`);
+    const client = new ROSLIB.Ros({ url });
+    ros = client;
+    client.on('connection', () => {
+      if (ros !== client) return;
+      connected = true;
+      reconnectDelay = 500;
+      showConnection('connected', `Connected to ${location.host}`);
+      for (const kind of Object.keys(TOPIC)) {
+        const [name, messageType] = TOPIC[kind];
+        const topic = new ROSLIB.Topic({ ros: client, name, messageType });
+        topic.subscribe((message) => {
+          if (ros !== client) return;
+          factors[kind] = Array.isArray(message.factors) ? message.factors : [];
+          renderScenes();
+        });
+      }
+      refreshPolicies();
+    });
+    client.on('error', () => {});
+    client.on('close', () => {
+      if (ros !== client) return;
+      connected = false;
+      ros = null;
+      factors.velocity = [];
+      factors.steering = [];
+      pendingScenes.clear();
+      pendingPolicies.clear();
+      renderScenes();
+      renderPolicies(null);
+      const seconds = (reconnectDelay / 1000).toFixed(1);
+      showConnection('disconnected', `Not connected to ${location.host}; retrying in ${seconds} s`);
+      setTimeout(connect, reconnectDelay);
+      reconnectDelay = Math.min(reconnectDelay * 2, 5000);
+    });
+  }
+
+  // Calls a service; `done(values)` with the response, or `failed(text)` when the node refuses
+  // the call itself or does not answer.
+  function call(service, args, done, failed) {
+    const client = ros;
+    if (!client || !connected) {
+      failed('not connected to the node');
+      return;
+    }
+    const [name, serviceType] = service;
+    let settled = false;
+    const timer = setTimeout(() => {
+      if (settled) return;
+      settled = true;
+      failed(`${name}: no answer within ${CALL_TIMEOUT_MS / 1000} s`);
+    }, CALL_TIMEOUT_MS);
+    const settle = (fn) => (value) => {
+      if (settled) return;
+      settled = true;
+      clearTimeout(timer);
+      fn(value);
+    };
+    new ROSLIB.Service({ ros: client, name, serviceType }).callService(
+      new ROSLIB.ServiceRequest(args),
+      settle(done),
+      settle((error) => failed(`${name}: ${typeof error === 'string' ? error : JSON.stringify(error)}`)),
+    );
+  }
+
+  // The text of a failed ResponseStatus.
+  function refusal(status) {
+    const code = status && typeof status.code === 'number' ? ` (code ${status.code})` : '';
+    const message = status && status.message ? status.message : 'no explanation given';
+    return `${message}${code}`;
+  }
+
+  // --- Scenes ---------------------------------------------------------------------------------
+
+  // Both streams' scenes (factors with a cooperation status), nearest first.
+  function scenes() {
+    const list = [];
+    for (const kind of ['velocity', 'steering']) {
+      for (const factor of factors[kind]) {
+        const status = Array.isArray(factor.cooperation) ? factor.cooperation[0] : undefined;
+        if (!status) continue;
+        const bytes = uuidBytes(status.uuid);
+        const distances = Array.isArray(factor.distance) ? factor.distance : [factor.distance];
+        list.push({
+          kind,
+          bytes,
+          uuid: hex(bytes),
+          behavior: factor.behavior || '',
+          sequence: factor.sequence || '',
+          detail: factor.detail || '',
+          direction: kind === 'steering' ? STEERING_DIRECTION[factor.direction] || '' : '',
+          distances,
+          autonomous: status.autonomous ? status.autonomous.decision : DECISION.UNKNOWN,
+          cooperator: status.cooperator ? status.cooperator.decision : DECISION.UNKNOWN,
+          cancellable: status.cancellable === true,
+        });
+      }
+    }
+    list.sort((a, b) => sortKey(a.distances[0]) - sortKey(b.distances[0])
+      || sortKey(a.distances[1]) - sortKey(b.distances[1])
+      || (a.uuid < b.uuid ? -1 : a.uuid > b.uuid ? 1 : 0));
+    return list;
+  }
+
+  function newRow(scene) {
+    const module = el('span', { class: 'module', 'data-col': 'module' });
+    const sub = el('span', { class: 'sub', 'data-col': 'about' });
+    const buttons = CHOICES.map(({ decision, label }) => {
+      const button = el('button', { type: 'button', 'data-decision': String(decision), 'aria-pressed': 'false' }, [label]);
+      button.addEventListener('click', () => command(row, decision));
+      return button;
+    });
+    const group = el('div', { class: 'decide', role: 'group' }, buttons);
+    const row = el('tr', { 'data-uuid': scene.uuid, id: `scene-${scene.uuid}` }, [
+      el('td', {}, [module, sub]),
+      el('td', { class: 'distance', 'data-col': 'distance' }),
+      el('td', {}, [el('span', { class: 'badge', 'data-col': 'autonomous' })]),
+      el('td', {}, [el('span', { class: 'badge', 'data-col': 'cooperator' })]),
+      el('td', { 'data-col': 'cancellable' }),
+      el('td', {}, [group]),
+    ]);
+    return row;
+  }
+
+  function updateRow(row, scene) {
+    const cell = (name) => row.querySelector(`[data-col="${name}"]`);
+    const name = moduleName(scene.behavior, scene.sequence);
+    row.scene = scene;
+    setAttr(row, 'data-kind', scene.kind);
+    setAttr(row, 'data-cancellable', String(scene.cancellable));
+    setText(cell('module'), name);
+    const about = [scene.kind === 'steering' ? `steering${scene.direction ? `, ${scene.direction}` : ''}` : 'velocity',
+      formatUuid(scene.uuid).slice(0, 8)];
+    if (scene.detail) about.push(scene.detail);
+    setText(cell('about'), about.join(' · '));
+    setAttr(cell('about'), 'title', formatUuid(scene.uuid));
+    setText(cell('distance'), scene.distances.length > 1
+      ? `${metres(scene.distances[0])} → ${metres(scene.distances[1])}`
+      : metres(scene.distances[0]));
+    for (const col of ['autonomous', 'cooperator']) {
+      const badge = cell(col);
+      setAttr(badge, 'data-decision', String(scene[col]));
+      setText(badge, DECISION_NAME[scene[col]] || String(scene[col]));
+    }
+    setText(cell('cancellable'), scene.cancellable ? 'yes' : 'no');
+    const pending = pendingScenes.has(scene.uuid);
+    const group = row.querySelector('.decide');
+    setAttr(group, 'aria-label', `Operator decision for ${name} ${formatUuid(scene.uuid).slice(0, 8)}`);
+    setAttr(group, 'aria-busy', String(pending));
+    for (const button of group.querySelectorAll('button')) {
+      const decision = Number(button.dataset.decision);
+      setAttr(button, 'aria-pressed', String(decision === scene.cooperator));
+      button.disabled = pending || !scene.cancellable;
+      const why = scene.cancellable ? '' : 'This scene is not cancellable: the node accepts no command for it now';
+      setAttr(button, 'title', why);
+    }
+  }
+
+  function renderScenes() {
+    const list = scenes();
+    const seen = new Set();
+    list.forEach((scene, index) => {
+      seen.add(scene.uuid);
+      let row = rows.get(scene.uuid);
+      if (!row) {
+        row = newRow(scene);
+        rows.set(scene.uuid, row);
+      }
+      updateRow(row, scene);
+      // Moves only rows out of place, so a button under the pointer stays where it is.
+      if (rowsBody.children[index] !== row) rowsBody.insertBefore(row, rowsBody.children[index] || null);
+    });
+    for (const [uuid, row] of rows) {
+      if (!seen.has(uuid)) {
+        row.remove();
+        rows.delete(uuid);
+      }
+    }
+    $('no-scenes').hidden = list.length > 0;
+    setText($('no-scenes'), connected ? 'No scene is reported.' : 'Not connected: no scenes to show.');
+  }
+
+  function command(row, decision) {
+    const scene = row.scene;
+    const name = `${moduleName(scene.behavior, scene.sequence)} ${formatUuid(scene.uuid).slice(0, 8)}`;
+    const choice = DECISION_NAME[decision];
+    pendingScenes.add(scene.uuid);
+    renderScenes();
+    const finish = () => {
+      pendingScenes.delete(scene.uuid);
+      renderScenes();
+    };
+    const args = { commands: [{ uuid: { uuid: scene.bytes }, cooperator: { decision } }] };
+    call(SERVICE.setCommands, args, (response) => {
+      finish();
+      if (response.status && response.status.success) {
+        say('ok', `${name}: ${choice} accepted.`);
+      } else {
+        say('error', `${name}: ${choice} refused: ${refusal(response.status)}`);
+      }
+    }, (error) => {
+      finish();
+      say('error', `${name}: ${choice} not sent: ${error}`);
+    });
+  }
+
+  // --- Policies -------------------------------------------------------------------------------
+
+  const policyKey = (policy) => `${policy.behavior}/${policy.sequence || ''}`;
+
+  function refreshPolicies() {
+    const request = ++policyRequest;
+    call(SERVICE.getPolicies, {}, (response) => {
+      if (request !== policyRequest) return;
+      if (response.status && response.status.success) {
+        renderPolicies(response.policies || []);
+      } else {
+        say('error', `Policies not read: ${refusal(response.status)}`);
+      }
+    }, (error) => {
+      if (request === policyRequest && connected) say('error', `Policies not read: ${error}`);
+    });
+  }
+
+  function newPolicyItem(policy) {
+    const name = moduleName(policy.behavior, policy.sequence);
+    const id = `policy-${policy.behavior}${policy.sequence ? `-${policy.sequence}` : ''}`;
+    const input = el('input', {
+      type: 'checkbox', role: 'switch', id,
+      'data-behavior': policy.behavior, 'data-sequence': policy.sequence || '',
+    });
+    input.addEventListener('change', () => setPolicy(item, input.checked ? POLICY.REQUIRED : POLICY.OPTIONAL));
+    const label = el('label', { class: 'switch', for: id }, [
+      input,
+      el('span', { class: 'track', 'aria-hidden': 'true' }),
+      el('span', { class: 'name' }, [name]),
+      // The switch's own state says it to assistive technology; this says it to the eye.
+      el('span', { class: 'state', 'aria-hidden': 'true' }),
+    ]);
+    const item = el('li', { 'data-policy': policyKey(policy) }, [label]);
+    item.policy = policy;
+    return item;
+  }
+
+  // Draws the node's policies; `null` when there is no node to ask.
+  function renderPolicies(policies) {
+    if (policies === null) {
+      // The last policies read stay in view, dimmed: the node may have changed them since.
+      policyList.dataset.stale = 'true';
+      for (const input of policyList.querySelectorAll('input')) input.disabled = true;
+      return;
+    }
+    delete policyList.dataset.stale;
+    const items = new Map(Array.from(policyList.children, (item) => [item.dataset.policy, item]));
+    policies.forEach((policy, index) => {
+      const key = policyKey(policy);
+      let item = items.get(key);
+      if (!item) item = newPolicyItem(policy);
+      items.delete(key);
+      item.policy = policy;
+      const input = item.querySelector('input');
+      const required = policy.policy === POLICY.REQUIRED;
+      const pending = pendingPolicies.has(key);
+      if (!pending) input.checked = required;
+      input.disabled = pending;
+      setAttr(item, 'data-value', required ? 'required' : 'optional');
+      setText(item.querySelector('.state'), required ? 'required' : 'optional');
+      if (policyList.children[index] !== item) policyList.insertBefore(item, policyList.children[index] || null);
+    });
+    for (const item of items.values()) item.remove();
+  }
+
+  function setPolicy(item, value) {
+    const { behavior, sequence } = item.policy;
+    const key = policyKey(item.policy);
+    const name = moduleName(behavior, sequence);
+    const wanted = value === POLICY.REQUIRED ? 'required' : 'optional';
+    pendingPolicies.add(key);
+    item.querySelector('input').disabled = true;
+    const args = { policies: [{ behavior, sequence: sequence || '', policy: value }] };
+    call(SERVICE.setPolicies, args, (response) => {
+      pendingPolicies.delete(key);
+      if (response.status && response.status.success) {
+        say('ok', `${name}: policy ${wanted} accepted.`);
+      } else {
+        say('error', `${name}: policy ${wanted} refused: ${refusal(response.status)}`);
+      }
+      refreshPolicies();
+    }, (error) => {
+      pendingPolicies.delete(key);
+      say('error', `${name}: policy ${wanted} not sent: ${error}`);
+      refreshPolicies();
+    });
+  }
+
+  setInterval(() => {
+    if (connected) refreshPolicies();
+  }, POLICY_REFRESH_MS);
+  renderScenes();
+  connect();
+})();
