@@ -172,10 +172,12 @@ impl Summary {
     }
 }
 
-/// A duration for a table: µs below 10 ms, ms above.
+/// A duration for a table: ns below 1 µs, µs below 10 ms, ms above.
 fn show(duration: Duration) -> String {
     let micros = duration.as_secs_f64() * 1e6;
-    if micros < 10.0 {
+    if micros < 1.0 {
+        format!("{:.0} ns", micros * 1_000.0)
+    } else if micros < 10.0 {
         format!("{micros:.2} µs")
     } else if micros < 10_000.0 {
         format!("{micros:.0} µs")
@@ -184,16 +186,17 @@ fn show(duration: Duration) -> String {
     }
 }
 
+/// `part` as a percentage of `whole`, to two significant digits below 10 %.
 fn share(part: Duration, whole: Duration) -> String {
     if whole.is_zero() {
         return "–".to_owned();
     }
     let percent = 100.0 * part.as_secs_f64() / whole.as_secs_f64();
-    if percent < 1.0 {
-        format!("{percent:.2} %")
-    } else {
-        format!("{percent:.1} %")
+    if percent >= 10.0 || percent <= 0.0 {
+        return format!("{percent:.1} %");
     }
+    let decimals = (1.0 - percent.log10().floor()).max(1.0) as usize;
+    format!("{percent:.decimals$} %")
 }
 
 /// What an operator client asks.
