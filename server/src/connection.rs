@@ -82,7 +82,7 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
                     None,
                 ))]
             }
-            Ok(Message::Text(text)) => rosbridge::handle(&node, text.as_str()),
+            Ok(Message::Text(text)) => handle(&node, text).await,
             Ok(Message::Binary(_)) => vec![Action::Send(rosbridge::error_status(
                 "a binary frame: this node reads rosbridge JSON in text frames (no CBOR or BSON)",
                 None,
@@ -111,6 +111,21 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
             tracing::error!(%error, "a connection's writer failed");
         }
     }
+}
+
+/// A text frame's answer, worked out on the blocking pool: it takes the core's lock and may
+/// wait for a publication, which must not hold up the tasks of other connections.
+async fn handle(node: &Arc<Node>, text: Utf8Bytes) -> Vec<Action> {
+    let node = Arc::clone(node);
+    tokio::task::spawn_blocking(move || rosbridge::handle(&node, text.as_str()))
+        .await
+        .unwrap_or_else(|error| {
+            tracing::error!(%error, "a request's handling failed");
+            vec![Action::Send(rosbridge::error_status(
+                "the node failed to answer this request",
+                None,
+            ))]
+        })
 }
 
 async fn write<S>(mut sink: S, mut queue: mpsc::Receiver<Out>, node: Arc<Node>, limits: Limits)

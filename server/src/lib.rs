@@ -140,7 +140,7 @@ async fn publish(node: Arc<Node>, every: Duration) {
             _ = interval.tick() => {}
             () = node.publish_asked() => {}
         }
-        node.publish();
+        blocking(&node, Node::publish).await;
     }
 }
 
@@ -150,6 +150,15 @@ async fn tick(node: Arc<Node>, every: Duration) {
     interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     loop {
         interval.tick().await;
-        node.tick();
+        blocking(&node, Node::tick).await;
+    }
+}
+
+/// Runs `work` on the blocking pool: it takes the core's lock, which must not hold up the
+/// tasks of the connections.
+async fn blocking(node: &Arc<Node>, work: fn(&Node)) {
+    let node = Arc::clone(node);
+    if let Err(error) = tokio::task::spawn_blocking(move || work(&node)).await {
+        tracing::error!(%error, "the node's periodic work failed");
     }
 }

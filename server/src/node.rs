@@ -5,6 +5,7 @@
 //! streams are serialized once per publication and handed to every subscriber as the same
 //! bytes.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use axum::extract::ws::Utf8Bytes;
@@ -62,9 +63,13 @@ pub struct Node {
     /// The RTC interfaces' routing. Locked before the core, never after it.
     rtc: Mutex<Rtc>,
     clock: Clock,
+    /// Counts the changes answered to callers that wait for their publication
+    /// ([`call`](Self::call)), from 1.
+    changes: AtomicU64,
     /// Held while a publication is read and sent, so publications leave in the order their
-    /// states were read: a stream never goes back to an older state.
-    publishing: Mutex<()>,
+    /// states were read: a stream never goes back to an older state. It holds the number of
+    /// changes the newest publication is known to show.
+    publishing: Mutex<u64>,
     velocity: watch::Sender<Utf8Bytes>,
     steering: watch::Sender<Utf8Bytes>,
     /// Woken by a change that should be published soon (module syncs, expiries).
@@ -109,7 +114,8 @@ impl Node {
             shared: cooperation::Shared::new(state),
             rtc: Mutex::new(Rtc::standard()),
             clock: Clock::start(),
-            publishing: Mutex::new(()),
+            changes: AtomicU64::new(0),
+            publishing: Mutex::new(0),
             velocity,
             steering,
             changed: Notify::new(),
@@ -142,7 +148,13 @@ impl Node {
 
     /// Reads both streams from the core as it is now and publishes them.
     pub fn publish(&self) {
-        let _order = lock(&self.publishing);
+        self.publish_holding(&mut lock(&self.publishing));
+    }
+
+    /// [`publish`](Self::publish), with the publishing lock held; `shown` is what it guards.
+    fn publish_holding(&self, shown: &mut u64) {
+        // Read before the core: every change counted so far is in the core read below.
+        *shown = self.changes.load(Ordering::SeqCst);
         let stamp = self.clock.stamp();
         let (velocity, steering) = self.shared.read(|state| {
             (
@@ -169,11 +181,22 @@ impl Node {
 
     /// An AD API service call, from the request's JSON to the response's. A call that changed
     /// the core is published before this returns, so the caller's next publication shows it.
+    ///
+    /// Callers changing the core at once share publications: a call whose change is already
+    /// shown by a publication that read the core after it does not publish again. It may wait
+    /// for that publication (publications are made one at a time), so call it where blocking
+    /// is allowed.
     #[must_use]
     pub fn call(&self, service: Service, args: &[u8]) -> Vec<u8> {
         let response = self.shared.update(|state| service.call_json(state, args));
         if service != Service::GetPolicies && succeeded(&response) {
-            self.publish();
+            // Counted after the change is in the core, so a publication that reads the count
+            // first and the core after shows it.
+            let change = self.changes.fetch_add(1, Ordering::SeqCst) + 1;
+            let mut shown = lock(&self.publishing);
+            if *shown < change {
+                self.publish_holding(&mut shown);
+            }
         }
         response
     }

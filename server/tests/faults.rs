@@ -12,7 +12,13 @@ use serde_json::json;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_publication_after_an_accepted_command_shows_it() {
-    let served = serve(Options::default()).await;
+    // The publication that shows a change may also reach the client before the answer; the
+    // one after the answer must show it too. A fast rate keeps the wait for it short.
+    let served = serve(Options {
+        publish_every: Duration::from_millis(20),
+        ..Options::default()
+    })
+    .await;
     let mut module = Client::connect(&served.url).await;
     let synced = module
         .sync("intersection", vec![status(3, true, 12.0)])
