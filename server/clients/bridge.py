@@ -226,6 +226,11 @@ class Recorder:
         with self.condition:
             return len(self.messages)
 
+    def since(self, index):
+        """The publications from number ``index`` on, received so far."""
+        with self.condition:
+            return list(self.messages[index:])
+
     def at(self, index, timeout=TIMEOUT):
         """Publication number ``index`` (from 0), waiting for it."""
         with self.condition:
