@@ -186,6 +186,31 @@ class ModuleTest(unittest.TestCase):
         self.assertIsNone(b.factor_of(steering.next(), unstated))
         self.assertIsNone(b.factor_of(steering.next(), odd))
 
+    def test_a_scene_belongs_to_the_interface_that_reported_it(self):
+        left = b.module(self, self.server.port, "lane_change_left")
+        right = b.module(self, self.server.port, "lane_change_right")
+        scene = b.new_uuid()
+        left.sync([b.status(scene, safe=False)])
+        for response in (right.sync([b.status(scene, safe=True)]), right.sync(removed=[scene])):
+            self.assertFalse(response["success"])
+            self.assertIn("lane_change_left", response["results"][0]["message"])
+            self.assertIsNone(b.activation_of(response, scene))
+        response = left.sync()
+        self.assertFalse(b.status_of(response, scene)["safe"])
+
+    def test_factors_are_nearest_first(self):
+        planner = b.module(self, self.server.port, "lane_change_left")
+        other = b.module(self, self.server.port, "start_planner")
+        far, near, middle = b.new_uuid(), b.new_uuid(), b.new_uuid()
+        planner.sync([b.status(far, start=30.0, finish=60.0),
+                      b.status(near, start=5.0, finish=20.0)])
+        other.sync([b.status(middle, start=12.0, finish=25.0)])
+        steering = self.operator.subscribe(b.STEERING)
+        seen = steering.wait(lambda m: all(b.factor_of(m, u) for u in (far, near, middle)),
+                             since=0)
+        order = [f["cooperation"][0]["uuid"]["uuid"] for f in seen["factors"]]
+        self.assertEqual(order, [near, middle, far])
+
     def test_an_unknown_interface_is_refused(self):
         planner = b.module(self, self.server.port, "dynamic_obstacle_avoidance")
         steering = self.operator.subscribe(b.STEERING)

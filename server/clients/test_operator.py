@@ -1,6 +1,7 @@
 """The operator's side of the AD API, through roslibpy: the policy services, set_commands and
 the two factor streams, on a node with the default settings (config/cooperation.param.yaml)."""
 
+import base64
 import unittest
 
 import bridge as b
@@ -77,6 +78,19 @@ class OperatorTest(unittest.TestCase):
                                  {"success": True, "code": 0, "message": ""})
                 steering.wait(lambda m: (b.cooperation_of(m, scene) or {})
                               .get("cooperator") == {"decision": decision})
+
+    def test_identifiers_as_base64(self):
+        # rosbridge writes uint8 arrays as base64 strings, and the node reads them so.
+        planner = b.module(self, self.server.port, "crosswalk")
+        scene = b.new_uuid()
+        encoded = {"uuid": base64.b64encode(bytes(scene)).decode("ascii")}
+        response = planner.sync([dict(b.status(scene), uuid=encoded)])
+        self.assertTrue(response["success"], response)
+        self.assertEqual(response["activations"][0]["uuid"], b.uuid_msg(scene))
+        answer = b.set_commands(self.operator,
+                                {"uuid": encoded, "cooperator": {"decision": b.DEACTIVATE}})
+        self.assertTrue(answer.values["status"]["success"], answer)
+        self.assertFalse(b.activation_of(planner.sync(), scene)["activated"])
 
     def test_an_empty_batch_has_no_effect(self):
         answer = b.set_commands(self.operator)
