@@ -84,16 +84,14 @@ class ExpiryTest(unittest.TestCase):
                         [len(m["factors"]) for m in received])
 
 
-
 class ExpiryBoundTest(unittest.TestCase):
     """No scene expires before its owner has left it unreported for the TTL
     ([COOP-TIME-EXPIRE.1]: a scene expires when its age is greater than the TTL).
 
-    Known to fail: `Node::tick` (server/src/node.rs) hands the core the whole time since the
-    previous tick, and the core adds it to every live scene's age, also to a scene synced
-    during that interval, whose age the sync had reset to 0. A scene synced late in a tick
-    interval is therefore aged by up to one interval (100 ms, more when the ticker runs late)
-    that it did not live, and expires that much early.
+    The node brings the core's time up to now before each sync (`Node::sync`,
+    server/src/node.rs), so a scene synced late in the clock's 100 ms tick interval is not
+    charged the part of the interval before it was reported; without that it expired up to an
+    interval early.
 
     Each trial syncs a new scene at a different point of the tick interval (a scene expires
     at a tick, so the moment one is seen gone is just after a tick), then polls with empty
@@ -109,7 +107,6 @@ class ExpiryBoundTest(unittest.TestCase):
     def setUp(self):
         self.server = node.start(self, settings=settings(self.TTL_MS))
 
-    @unittest.expectedFailure
     def test_no_scene_expires_before_the_ttl(self):
         planner = b.module(self, self.server.port, "crosswalk")
         trials = []

@@ -201,39 +201,52 @@ impl Node {
         response
     }
 
-    /// A planning module's sync (`docs/server.md`), from JSON to JSON.
+    /// A planning module's sync (`docs/server.md`), from JSON to JSON. The core's time is
+    /// brought up to now first, so a scene reported here starts its time to live now, not at
+    /// the last periodic tick.
     #[must_use]
     pub fn sync(&self, args: &[u8]) -> Vec<u8> {
         let mut rtc = lock(&self.rtc);
         let stamp = self.clock.stamp();
-        let (response, changed) = self
-            .shared
-            .update(|state| sync::answer(&mut rtc, state, args, stamp));
+        let (expired, (response, changed)) = self.shared.update(|state| {
+            let expired = self.catch_up(&mut rtc, state);
+            (expired, sync::answer(&mut rtc, state, args, stamp))
+        });
         drop(rtc);
-        if changed {
+        if changed || expired {
             self.publish_soon();
         }
         wire::to_json(&response)
     }
 
-    /// Tells the core how much monotonic time passed since the last tick; publishes soon if
+    /// Tells the core how much monotonic time passed since it was last told; publishes soon if
     /// scenes expired.
     pub fn tick(&self) {
         let mut rtc = lock(&self.rtc);
+        let expired = self.shared.update(|state| self.catch_up(&mut rtc, state));
+        drop(rtc);
+        if expired {
+            self.publish_soon();
+        }
+    }
+
+    /// The core's `Tick` for the time since the last one, with the RTC interfaces' lock and the
+    /// core's held; whether scenes expired.
+    fn catch_up(&self, rtc: &mut Rtc, state: &mut State) -> bool {
         let now = self.clock.elapsed_ms();
         let mut ticked = lock(&self.ticked_ms);
         let elapsed_ms = now.saturating_sub(*ticked);
         *ticked = now;
         drop(ticked);
-        let expired = self
-            .shared
-            .update(|state| rtc.tick(state, elapsed_ms))
-            .map(|transition| !transition.retired.is_empty());
-        drop(rtc);
-        match expired {
-            Ok(true) => self.publish_soon(),
-            Ok(false) => {}
-            Err(error) => tracing::error!(%error, "the core refused a tick"),
+        if elapsed_ms == 0 {
+            return false;
+        }
+        match rtc.tick(state, elapsed_ms) {
+            Ok(transition) => !transition.retired.is_empty(),
+            Err(error) => {
+                tracing::error!(%error, "the core refused a tick");
+                false
+            }
         }
     }
 }
