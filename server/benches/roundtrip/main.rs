@@ -36,6 +36,14 @@ use serde::Serialize;
 use tokio::sync::{mpsc, Barrier};
 use tokio_tungstenite::tungstenite::Message;
 
+mod delivery;
+mod in_process;
+
+use delivery::delivery;
+use in_process::{
+    in_process, CALL, CONVERT, CORE_COMMAND, JSON_SERVICE, PUBLISH, QUERY, QUERY_KEYED, SERIALIZE,
+};
+
 /// Live scenes while everything is measured.
 const SCENES: usize = 500;
 /// The RTC interfaces the scenes are spread over: two steering, two velocity.
@@ -390,255 +398,6 @@ async fn round_trips(
     Ok((case, other))
 }
 
-/// A `publish` frame as the node writes one, for timing the serialization alone.
-#[derive(Serialize)]
-struct Publish<'a, M> {
-    op: &'static str,
-    topic: &'static str,
-    msg: &'a M,
-}
-
-/// The in-process measurements, by name.
-struct InProcess {
-    names: Vec<&'static str>,
-    samples: Vec<Vec<Duration>>,
-}
-
-/// Times each of `work` `PER_ROUND` times a round for `ROUNDS` rounds, interleaved.
-fn interleaved(work: &mut [(&'static str, &mut dyn FnMut(usize))]) -> InProcess {
-    let mut samples = vec![Vec::with_capacity(ROUNDS * PER_ROUND); work.len()];
-    let mut iteration = 0;
-    for _ in 0..ROUNDS {
-        for ((_, run), out) in work.iter_mut().zip(samples.iter_mut()) {
-            for _ in 0..PER_ROUND {
-                let began = Instant::now();
-                run(iteration);
-                out.push(began.elapsed());
-                iteration += 1;
-            }
-        }
-    }
-    InProcess {
-        names: work.iter().map(|(name, _)| *name).collect(),
-        samples,
-    }
-}
-
-impl InProcess {
-    fn summary(&self, name: &str) -> Summary {
-        self.names
-            .iter()
-            .position(|known| *known == name)
-            .map_or_else(
-                || Summary::of(Vec::new()),
-                |at| Summary::of(self.samples[at].clone()),
-            )
-    }
-}
-
-const CALL: &str = "Node::call(SetCommands): JSON, core, response, publication";
-const JSON_SERVICE: &str = "JSON service alone (Service::call_json under the lock)";
-const CORE_COMMAND: &str = "core alone (Shared::set_commands, one command)";
-const PUBLISH: &str = "Node::publish: both topics read, converted, serialized";
-const CONVERT: &str = "core query + conversion to AD API messages (under the lock)";
-const QUERY: &str = "core query alone (velocity_ + steering_factors_into)";
-const QUERY_KEYED: &str = "core query, keyed form (factors_into)";
-const SERIALIZE: &str = "serialization alone (two publish frames)";
-
-fn in_process(node: &Node) -> InProcess {
-    let args: Vec<Vec<u8>> = (0..2 * SCENES)
-        .map(|index| command_args(index, decision(index / SCENES)).into_bytes())
-        .collect();
-    let commands: Vec<Command> = (0..2 * SCENES)
-        .map(|index| Command {
-            id: SceneId::from_bytes(uuid(index % SCENES)),
-            decision: if index < SCENES {
-                OperatorDecision::Activate
-            } else {
-                OperatorDecision::Deactivate
-            },
-        })
-        .collect();
-    let stamp = node.clock().stamp();
-    let (velocity, steering) = node.shared().read(|state| {
-        (
-            wire::velocity_factors(state, stamp),
-            wire::steering_factors(state, stamp),
-        )
-    });
-    let (mut velocity_out, mut steering_out) = (Vec::new(), Vec::new());
-    let mut lists = FactorLists::default();
-    let mut call = |i: usize| {
-        black_box(node.call(Service::SetCommands, &args[i % args.len()]));
-    };
-    let mut json_service = |i: usize| {
-        let request = &args[i % args.len()];
-        black_box(
-            node.shared()
-                .update(|state| Service::SetCommands.call_json(state, request)),
-        );
-    };
-    let mut core = |i: usize| {
-        black_box(
-            node.shared()
-                .set_commands(vec![commands[i % commands.len()]]),
-        );
-    };
-    let mut publish = |_: usize| node.publish();
-    let mut convert = |_: usize| {
-        let stamp = node.clock().stamp();
-        black_box(node.shared().read(|state| {
-            (
-                wire::velocity_factors(state, stamp),
-                wire::steering_factors(state, stamp),
-            )
-        }));
-    };
-    let mut query = |_: usize| {
-        node.shared().read(|state| {
-            state.velocity_factors_into(&mut velocity_out);
-            state.steering_factors_into(&mut steering_out);
-        });
-        black_box((&velocity_out, &steering_out));
-    };
-    let mut query_keyed = |_: usize| {
-        node.shared().read(|state| state.factors_into(&mut lists));
-        black_box(&lists);
-    };
-    let mut serialize = |_: usize| {
-        let frames = (
-            serde_json::to_string(&Publish {
-                op: "publish",
-                topic: Topic::Velocity.name(),
-                msg: &velocity,
-            }),
-            serde_json::to_string(&Publish {
-                op: "publish",
-                topic: Topic::Steering.name(),
-                msg: &steering,
-            }),
-        );
-        black_box(&frames);
-    };
-    interleaved(&mut [
-        (CALL, &mut call),
-        (JSON_SERVICE, &mut json_service),
-        (CORE_COMMAND, &mut core),
-        (PUBLISH, &mut publish),
-        (CONVERT, &mut convert),
-        (QUERY, &mut query),
-        (QUERY_KEYED, &mut query_keyed),
-        (SERIALIZE, &mut serialize),
-    ])
-}
-
-/// One subscriber: subscribes to both topics and reports every frame's arrival.
-async fn subscriber(
-    address: SocketAddr,
-    index: usize,
-    arrivals: mpsc::UnboundedSender<(usize, Topic, Instant)>,
-) -> Result<(), String> {
-    let url = format!("ws://{address}/");
-    let (mut socket, _) = tokio_tungstenite::connect_async(url.as_str())
-        .await
-        .map_err(|error| format!("subscriber {index}: {error}"))?;
-    for topic in Topic::ALL {
-        let subscribe = format!(
-            "{{\"op\":\"subscribe\",\"topic\":\"{}\",\"type\":\"{}\"}}",
-            topic.name(),
-            topic.type_name()
-        );
-        socket
-            .send(Message::text(subscribe))
-            .await
-            .map_err(|error| format!("subscriber {index}: {error}"))?;
-    }
-    let velocity = format!(
-        "{{\"op\":\"publish\",\"topic\":\"{}\"",
-        Topic::Velocity.name()
-    );
-    while let Some(received) = socket.next().await {
-        let Ok(Message::Text(text)) = received else {
-            break;
-        };
-        let at = Instant::now();
-        let topic = if text.starts_with(velocity.as_str()) {
-            Topic::Velocity
-        } else {
-            Topic::Steering
-        };
-        if arrivals.send((index, topic, at)).is_err() {
-            break;
-        }
-    }
-    Ok(())
-}
-
-/// Waits until each of `count` subscribers has received a frame of each topic; answers when
-/// each arrived (the later one if a topic arrived twice).
-async fn both_frames(
-    arrived: &mut mpsc::UnboundedReceiver<(usize, Topic, Instant)>,
-    count: usize,
-) -> Result<Vec<[Option<Instant>; 2]>, String> {
-    let mut last = vec![[None::<Instant>; 2]; count];
-    let mut missing = 2 * count;
-    while missing > 0 {
-        let Some((index, topic, at)) = arrived.recv().await else {
-            return Err("a subscriber stopped".to_owned());
-        };
-        let slot = &mut last[index][usize::from(topic == Topic::Steering)];
-        if slot.is_none() {
-            missing -= 1;
-        }
-        *slot = Some(at);
-    }
-    Ok(last)
-}
-
-/// Delivery with `count` subscribers over `rounds` publications: each subscriber's time to
-/// both frames, and each round's time to the last subscriber's.
-async fn delivery(
-    address: SocketAddr,
-    node: &Node,
-    count: usize,
-    rounds: usize,
-) -> Result<(Summary, Summary), String> {
-    let (arrivals, mut arrived) = mpsc::unbounded_channel();
-    let tasks: Vec<_> = (0..count)
-        .map(|index| tokio::spawn(subscriber(address, index, arrivals.clone())))
-        .collect();
-    drop(arrivals);
-    // A new subscriber is sent the newest publication of each topic at once.
-    tokio::time::timeout(CASE_DEADLINE, both_frames(&mut arrived, count))
-        .await
-        .map_err(|_| "subscribers did not receive the first publications".to_owned())??;
-    let mut each = Vec::with_capacity(count * rounds);
-    let mut all = Vec::with_capacity(rounds);
-    let deadline = Instant::now() + CASE_DEADLINE;
-    for _ in 0..rounds {
-        if Instant::now() > deadline {
-            break;
-        }
-        let began = Instant::now();
-        node.publish();
-        let last = tokio::time::timeout(CASE_DEADLINE, both_frames(&mut arrived, count))
-            .await
-            .map_err(|_| "a publication was not delivered".to_owned())??;
-        let mut slowest = Duration::ZERO;
-        for both in last {
-            let received = both.iter().flatten().max().copied().unwrap_or(began);
-            let took = received.duration_since(began);
-            slowest = slowest.max(took);
-            each.push(took);
-        }
-        all.push(slowest);
-    }
-    for task in tasks {
-        task.abort();
-    }
-    Ok((Summary::of(each), Summary::of(all)))
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `cargo bench` passes `--bench`; `cargo test --benches` passes nothing and only builds.
     if !std::env::args().any(|arg| arg == "--bench") {
@@ -649,7 +408,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let began = Instant::now();
 
     let mut config =
-        cooperation::settings::parse(include_str!("../../config/cooperation.param.yaml"))?;
+        cooperation::settings::parse(include_str!("../../../config/cooperation.param.yaml"))?;
     config.limits.max_scenes = config.limits.max_scenes.max(SCENES);
     let node = Arc::new(Node::new(config)?);
     let per_interface = SCENES.div_ceil(INTERFACES.len());

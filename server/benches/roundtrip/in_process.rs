@@ -1,0 +1,145 @@
+//! The command and the publication in process, against their parts.
+
+use super::*;
+
+/// A `publish` frame as the node writes one, for timing the serialization alone.
+#[derive(Serialize)]
+struct Publish<'a, M> {
+    op: &'static str,
+    topic: &'static str,
+    msg: &'a M,
+}
+
+/// The in-process measurements, by name.
+pub(super) struct InProcess {
+    names: Vec<&'static str>,
+    samples: Vec<Vec<Duration>>,
+}
+
+/// Times each of `work` `PER_ROUND` times a round for `ROUNDS` rounds, interleaved.
+fn interleaved(work: &mut [(&'static str, &mut dyn FnMut(usize))]) -> InProcess {
+    let mut samples = vec![Vec::with_capacity(ROUNDS * PER_ROUND); work.len()];
+    let mut iteration = 0;
+    for _ in 0..ROUNDS {
+        for ((_, run), out) in work.iter_mut().zip(samples.iter_mut()) {
+            for _ in 0..PER_ROUND {
+                let began = Instant::now();
+                run(iteration);
+                out.push(began.elapsed());
+                iteration += 1;
+            }
+        }
+    }
+    InProcess {
+        names: work.iter().map(|(name, _)| *name).collect(),
+        samples,
+    }
+}
+
+impl InProcess {
+    pub(super) fn summary(&self, name: &str) -> Summary {
+        self.names
+            .iter()
+            .position(|known| *known == name)
+            .map_or_else(
+                || Summary::of(Vec::new()),
+                |at| Summary::of(self.samples[at].clone()),
+            )
+    }
+}
+
+pub(super) const CALL: &str = "Node::call(SetCommands): JSON, core, response, publication";
+pub(super) const JSON_SERVICE: &str = "JSON service alone (Service::call_json under the lock)";
+pub(super) const CORE_COMMAND: &str = "core alone (Shared::set_commands, one command)";
+pub(super) const PUBLISH: &str = "Node::publish: both topics read, converted, serialized";
+pub(super) const CONVERT: &str = "core query + conversion to AD API messages (under the lock)";
+pub(super) const QUERY: &str = "core query alone (velocity_ + steering_factors_into)";
+pub(super) const QUERY_KEYED: &str = "core query, keyed form (factors_into)";
+pub(super) const SERIALIZE: &str = "serialization alone (two publish frames)";
+
+pub(super) fn in_process(node: &Node) -> InProcess {
+    let args: Vec<Vec<u8>> = (0..2 * SCENES)
+        .map(|index| command_args(index, decision(index / SCENES)).into_bytes())
+        .collect();
+    let commands: Vec<Command> = (0..2 * SCENES)
+        .map(|index| Command {
+            id: SceneId::from_bytes(uuid(index % SCENES)),
+            decision: if index < SCENES {
+                OperatorDecision::Activate
+            } else {
+                OperatorDecision::Deactivate
+            },
+        })
+        .collect();
+    let stamp = node.clock().stamp();
+    let (velocity, steering) = node.shared().read(|state| {
+        (
+            wire::velocity_factors(state, stamp),
+            wire::steering_factors(state, stamp),
+        )
+    });
+    let (mut velocity_out, mut steering_out) = (Vec::new(), Vec::new());
+    let mut lists = FactorLists::default();
+    let mut call = |i: usize| {
+        black_box(node.call(Service::SetCommands, &args[i % args.len()]));
+    };
+    let mut json_service = |i: usize| {
+        let request = &args[i % args.len()];
+        black_box(
+            node.shared()
+                .update(|state| Service::SetCommands.call_json(state, request)),
+        );
+    };
+    let mut core = |i: usize| {
+        black_box(
+            node.shared()
+                .set_commands(vec![commands[i % commands.len()]]),
+        );
+    };
+    let mut publish = |_: usize| node.publish();
+    let mut convert = |_: usize| {
+        let stamp = node.clock().stamp();
+        black_box(node.shared().read(|state| {
+            (
+                wire::velocity_factors(state, stamp),
+                wire::steering_factors(state, stamp),
+            )
+        }));
+    };
+    let mut query = |_: usize| {
+        node.shared().read(|state| {
+            state.velocity_factors_into(&mut velocity_out);
+            state.steering_factors_into(&mut steering_out);
+        });
+        black_box((&velocity_out, &steering_out));
+    };
+    let mut query_keyed = |_: usize| {
+        node.shared().read(|state| state.factors_into(&mut lists));
+        black_box(&lists);
+    };
+    let mut serialize = |_: usize| {
+        let frames = (
+            serde_json::to_string(&Publish {
+                op: "publish",
+                topic: Topic::Velocity.name(),
+                msg: &velocity,
+            }),
+            serde_json::to_string(&Publish {
+                op: "publish",
+                topic: Topic::Steering.name(),
+                msg: &steering,
+            }),
+        );
+        black_box(&frames);
+    };
+    interleaved(&mut [
+        (CALL, &mut call),
+        (JSON_SERVICE, &mut json_service),
+        (CORE_COMMAND, &mut core),
+        (PUBLISH, &mut publish),
+        (CONVERT, &mut convert),
+        (QUERY, &mut query),
+        (QUERY_KEYED, &mut query_keyed),
+        (SERIALIZE, &mut serialize),
+    ])
+}
