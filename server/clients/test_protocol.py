@@ -49,7 +49,7 @@ class ProtocolErrorTest(unittest.TestCase):
 
     def test_a_frame_without_op(self):
         self.refused(lambda: self.client.send({"id": "op-2", "topic": b.STEERING[0]}),
-                     "not a rosbridge frame", "op")
+                     "not a rosbridge frame", "op", frame_id="op-2")
 
     def test_an_unknown_topic(self):
         topic = b.roslibpy.Topic(self.client.ros, "/no/such/topic", "std_msgs/msg/String")
@@ -133,7 +133,8 @@ class ProtocolErrorTest(unittest.TestCase):
         padding = "x" * (2 << 20)
         frame = json.dumps({"op": "call_service", "id": "op-5", "service": b.GET_POLICIES[0],
                             "args": {}, "padding": padding})
-        self.refused(lambda: self.client.send_text(frame), str(len(frame)), str(2 << 20))
+        self.refused(lambda: self.client.send_text(frame), str(len(frame)), str(2 << 20),
+                     frame_id="op-5")
 
     def test_errors_in_a_burst_are_each_answered_in_order(self):
         since = len(self.client.statuses())

@@ -7,8 +7,10 @@
 //! - **Publications** are not queued: each topic holds only its newest publication, and a
 //!   subscriber that is still sending an older one skips the ones in between. A slow
 //!   subscriber therefore gets fewer publications, each complete and current.
-//! - **A stalled client** (one frame not taken within [`Limits::write_timeout`]) is
-//!   disconnected.
+//! - **A stalled client** (one frame not handed to its connection within
+//!   [`Limits::write_timeout`]) is disconnected, and so is a silent one: the node pings every
+//!   [`Limits::keepalive`] and disconnects a client from which nothing, not even the pong,
+//!   arrives for three times as long.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -30,8 +32,12 @@ pub struct Limits {
     pub hard_frame: usize,
     /// Answers waiting to be sent, per connection.
     pub queue: usize,
-    /// The longest a frame may take to be sent before the client is disconnected.
+    /// The longest a frame may take to be handed to the client's connection (its socket
+    /// buffers full) before the client is disconnected.
     pub write_timeout: Duration,
+    /// The node pings the client this often; a client from which nothing (not even the pong)
+    /// arrives for three times as long is disconnected.
+    pub keepalive: Duration,
 }
 
 impl Default for Limits {
@@ -41,6 +47,7 @@ impl Default for Limits {
             hard_frame: 16 << 20,
             queue: 64,
             write_timeout: Duration::from_secs(10),
+            keepalive: Duration::from_secs(20),
         }
     }
 }
@@ -61,7 +68,12 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
         // When the writer gives up on the client (it stalled), the reading stops too, so
         // the connection closes.
         let received = tokio::select! {
-            received = stream.next() => received,
+            received = tokio::time::timeout(limits.keepalive.saturating_mul(3), stream.next()) => {
+                received.unwrap_or_else(|_| {
+                    tracing::info!("a client sent nothing, not even a pong, for too long; disconnected");
+                    None
+                })
+            }
             done = &mut writer => {
                 writer_done = true;
                 if let Err(error) = done {
@@ -72,17 +84,7 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
         };
         let Some(received) = received else { break };
         let actions = match received {
-            Ok(Message::Text(text)) if text.len() > limits.frame => {
-                vec![Action::Send(rosbridge::error_status(
-                    &format!(
-                        "a frame of {} bytes, more than the {} this node reads",
-                        text.len(),
-                        limits.frame
-                    ),
-                    None,
-                ))]
-            }
-            Ok(Message::Text(text)) => handle(&node, text).await,
+            Ok(Message::Text(text)) => handle(&node, text, limits.frame).await,
             Ok(Message::Binary(_)) => vec![Action::Send(rosbridge::error_status(
                 "a binary frame: this node reads rosbridge JSON in text frames (no CBOR or BSON)",
                 None,
@@ -115,9 +117,20 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
 
 /// A text frame's answer, worked out on the blocking pool: it takes the core's lock and may
 /// wait for a publication, which must not hold up the tasks of other connections.
-async fn handle(node: &Arc<Node>, text: Utf8Bytes) -> Vec<Action> {
+async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize) -> Vec<Action> {
     let node = Arc::clone(node);
-    tokio::task::spawn_blocking(move || rosbridge::handle(&node, text.as_str()))
+    let work = move || {
+        if text.len() > max {
+            let msg = format!(
+                "a frame of {} bytes, more than the {max} this node reads",
+                text.len()
+            );
+            rosbridge::refuse(text.as_str(), &msg)
+        } else {
+            rosbridge::handle(&node, text.as_str())
+        }
+    };
+    tokio::task::spawn_blocking(work)
         .await
         .unwrap_or_else(|error| {
             tracing::error!(%error, "a request's handling failed");
@@ -136,11 +149,14 @@ where
     let mut velocity = node.subscribe(Topic::Velocity);
     let mut steering = node.subscribe(Topic::Steering);
     let (mut to_velocity, mut to_steering) = (false, false);
+    let mut keepalive = tokio::time::interval(limits.keepalive);
+    keepalive.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    keepalive.reset();
     loop {
-        let frame = tokio::select! {
+        let message = tokio::select! {
             biased;
             item = queue.recv() => match item {
-                Some(Out::Frame(frame)) => frame,
+                Some(Out::Frame(frame)) => Message::Text(frame),
                 Some(Out::Subscribe(topic)) => {
                     subscription(topic, true, &mut to_velocity, &mut to_steering, &mut velocity, &mut steering);
                     continue;
@@ -152,15 +168,16 @@ where
                 None => break,
             },
             changed = velocity.changed(), if to_velocity => match changed {
-                Ok(()) => velocity.borrow_and_update().clone(),
+                Ok(()) => Message::Text(velocity.borrow_and_update().clone()),
                 Err(_) => break,
             },
             changed = steering.changed(), if to_steering => match changed {
-                Ok(()) => steering.borrow_and_update().clone(),
+                Ok(()) => Message::Text(steering.borrow_and_update().clone()),
                 Err(_) => break,
             },
+            _ = keepalive.tick() => Message::Ping(axum::body::Bytes::new()),
         };
-        match tokio::time::timeout(limits.write_timeout, sink.send(Message::Text(frame))).await {
+        match tokio::time::timeout(limits.write_timeout, sink.send(message)).await {
             Ok(Ok(())) => {}
             Ok(Err(error)) => {
                 tracing::info!(%error, "a client's connection failed");

@@ -67,19 +67,52 @@ struct App {
     limits: Limits,
 }
 
+impl Options {
+    /// Why these options cannot run a node, if they cannot: a zero interval or time limit, no
+    /// client, or more clients than the runtime can count.
+    #[must_use]
+    pub fn problem(&self) -> Option<String> {
+        let intervals = [
+            ("the publication interval", self.publish_every),
+            ("the tick interval", self.tick_every),
+            ("the write timeout", self.limits.write_timeout),
+            ("the keepalive interval", self.limits.keepalive),
+        ];
+        if let Some((name, _)) = intervals.iter().find(|(_, every)| every.is_zero()) {
+            return Some(format!("{name} is zero"));
+        }
+        if self.max_clients == 0 || self.max_clients > Semaphore::MAX_PERMITS {
+            return Some(format!(
+                "{} clients: give from 1 to {}",
+                self.max_clients,
+                Semaphore::MAX_PERMITS
+            ));
+        }
+        None
+    }
+}
+
 /// Serves `node` on `listener` until `shutdown` completes: the WebSocket, the panel, the
 /// periodic publications and the clock.
 ///
 /// # Errors
-/// The listener's failure.
+/// [`std::io::ErrorKind::InvalidInput`] with [`Options::problem`]; the listener's failure; an
+/// error if the publishing or the clock's task stops, which would leave the streams or the
+/// expiry silently stopped.
 pub async fn serve(
     listener: TcpListener,
     node: Arc<Node>,
     options: Options,
     shutdown: impl std::future::Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
-    let publisher = tokio::spawn(publish(Arc::clone(&node), options.publish_every));
-    let ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
+    if let Some(problem) = options.problem() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            problem,
+        ));
+    }
+    let mut publisher = tokio::spawn(publish(Arc::clone(&node), options.publish_every));
+    let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
     let app = App {
         node,
         clients: Arc::new(Semaphore::new(options.max_clients)),
@@ -89,9 +122,16 @@ pub async fn serve(
         .route("/", get(root))
         .merge(panel::routes())
         .with_state(app);
-    let served = axum::serve(listener, router)
-        .with_graceful_shutdown(shutdown)
-        .await;
+    let served = axum::serve(listener, router).with_graceful_shutdown(shutdown);
+    let served = tokio::select! {
+        served = served => served,
+        stopped = &mut publisher => Err(std::io::Error::other(format!(
+            "the publishing task stopped: {stopped:?}"
+        ))),
+        stopped = &mut ticker => Err(std::io::Error::other(format!(
+            "the clock's task stopped: {stopped:?}"
+        ))),
+    };
     publisher.abort();
     ticker.abort();
     served

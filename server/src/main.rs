@@ -18,7 +18,8 @@ struct Args {
     /// The address to listen on.
     #[arg(long, default_value = "127.0.0.1:9090")]
     listen: SocketAddr,
-    /// The settings file with the modules' default policies and the limits.
+    /// The settings file with the modules' default policies and the limits (by default the
+    /// repository's, at the path it had when the node was built).
     #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/cooperation.param.yaml"))]
     settings: PathBuf,
     /// Periodic publications of the factors per second (they are also published on change).
@@ -60,11 +61,19 @@ async fn run(args: Args) -> Result<(), String> {
     let config = cooperation::settings::parse(&text)
         .map_err(|error| format!("{}: {error}", args.settings.display()))?;
     let node = Node::new(config).map_err(|error| error.to_string())?;
+    let publish_every = Duration::try_from_secs_f64(1.0 / args.rate)
+        .map_err(|error| format!("--rate {}: {error}", args.rate))?;
     let options = Options {
-        publish_every: Duration::from_secs_f64(1.0 / args.rate),
+        publish_every,
         max_clients: args.max_clients,
         ..Options::default()
     };
+    if let Some(problem) = options.problem() {
+        return Err(format!(
+            "--rate {} --max-clients {}: {problem}",
+            args.rate, args.max_clients
+        ));
+    }
     let listener = cooperation_server::bind(args.listen)
         .await
         .map_err(|error| format!("cannot listen on {}: {error}", args.listen))?;

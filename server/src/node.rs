@@ -206,11 +206,16 @@ impl Node {
     /// the last periodic tick.
     #[must_use]
     pub fn sync(&self, args: &[u8]) -> Vec<u8> {
+        // Read before any lock is taken, so a large request holds up no one else.
+        let request = match sync::read(args) {
+            Ok(request) => request,
+            Err(message) => return wire::to_json(&sync::refused(message)),
+        };
         let mut rtc = lock(&self.rtc);
         let stamp = self.clock.stamp();
         let (expired, (response, changed)) = self.shared.update(|state| {
             let expired = self.catch_up(&mut rtc, state);
-            (expired, sync::answer(&mut rtc, state, args, stamp))
+            (expired, sync::answer(&mut rtc, state, &request, stamp))
         });
         drop(rtc);
         if changed || expired {

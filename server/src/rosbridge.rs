@@ -80,9 +80,71 @@ fn same_type(given: &str, expected: &str) -> bool {
     given == expected || given == expected.replacen("/msg/", "/", 1).replacen("/srv/", "/", 1)
 }
 
+/// The fields of a frame that does not read as an [`Envelope`], read leniently, so that its
+/// refusal can echo its `id` and a `call_service` can be answered.
+#[derive(Deserialize)]
+struct Salvage<'a> {
+    #[serde(borrow, default)]
+    op: Option<&'a RawValue>,
+    #[serde(borrow, default)]
+    id: Option<&'a RawValue>,
+    #[serde(borrow, default)]
+    service: Option<&'a RawValue>,
+}
+
+/// The refusal of a frame the node will not handle: a `status` naming `msg` with the frame's
+/// `id` when it has one, and for a `call_service` also a failed `service_response`, so a
+/// client waiting for it is not left waiting.
+#[must_use]
+pub fn refuse(frame: &str, msg: &str) -> Vec<Action> {
+    let salvage = is_object(frame)
+        .then(|| serde_json::from_str::<Salvage<'_>>(frame).ok())
+        .flatten();
+    let Some(salvage) = salvage else {
+        return vec![Action::Send(error_status(msg, None))];
+    };
+    let calls = salvage.op.is_some_and(|op| op.get() == r#""call_service""#);
+    if !calls {
+        return vec![Action::Send(error_status(msg, salvage.id))];
+    }
+    let service = salvage
+        .service
+        .and_then(|service| serde_json::from_str::<String>(service.get()).ok())
+        .unwrap_or_default();
+    failed_call(&service, salvage.id, msg)
+}
+
+/// A `status` and a `service_response` with `result: false`, both saying `msg`.
+fn failed_call(service: &str, id: Option<&RawValue>, msg: &str) -> Vec<Action> {
+    let response = ServiceResponse {
+        op: "service_response",
+        service,
+        id,
+        values: msg,
+        result: false,
+    };
+    vec![
+        Action::Send(error_status(msg, id)),
+        Action::Send(serde_json::to_string(&response).unwrap_or_default()),
+    ]
+}
+
+/// Whether a frame is a JSON object, as rosbridge frames are. (Serde would also read a
+/// struct from a list of its fields' values, which no rosbridge client sends.)
+fn is_object(frame: &str) -> bool {
+    frame.trim_start().starts_with('{')
+}
+
 /// The node's answer to one text frame.
 #[must_use]
 pub fn handle(node: &Node, frame: &str) -> Vec<Action> {
+    if !is_object(frame) {
+        let msg = match serde_json::from_str::<&RawValue>(frame) {
+            Ok(_) => "not a rosbridge frame: a frame is a JSON object".to_owned(),
+            Err(error) => format!("not JSON: {error}"),
+        };
+        return vec![Action::Send(error_status(&msg, None))];
+    }
     let envelope: Envelope<'_> = match serde_json::from_str(frame) {
         Ok(envelope) => envelope,
         Err(error) => {
@@ -91,7 +153,7 @@ pub fn handle(node: &Node, frame: &str) -> Vec<Action> {
             } else {
                 format!("not JSON: {error}")
             };
-            return vec![Action::Send(error_status(&msg, None))];
+            return refuse(frame, &msg);
         }
     };
     let id = envelope.id;
@@ -137,19 +199,7 @@ pub fn handle(node: &Node, frame: &str) -> Vec<Action> {
 fn call_service(node: &Node, envelope: &Envelope<'_>) -> Vec<Action> {
     let id = envelope.id;
     let name = envelope.service.as_deref().unwrap_or_default();
-    let failed = |msg: &str| {
-        let response = ServiceResponse {
-            op: "service_response",
-            service: name,
-            id,
-            values: msg,
-            result: false,
-        };
-        vec![
-            Action::Send(error_status(msg, id)),
-            Action::Send(serde_json::to_string(&response).unwrap_or_default()),
-        ]
-    };
+    let failed = |msg: &str| failed_call(name, id, msg);
     if envelope.service.is_none() {
         return failed("call_service without a service");
     }

@@ -5,6 +5,8 @@
 //! ([`cooperation::rtc::Interface`]) and answers with the interface's statuses and each live
 //! scene's merged decision. `docs/server.md` shows the shapes.
 
+use std::collections::BTreeMap;
+
 use cooperation::rtc::{CooperateStatus, CooperateStatusArray, Interface, Rtc, Time, Uuid};
 use cooperation::{SceneId, Sequence, State};
 use serde::{Deserialize, Serialize};
@@ -84,19 +86,25 @@ pub struct Activation {
 }
 
 /// A request's answer from the core, and whether anything changed.
-pub fn answer(rtc: &mut Rtc, state: &mut State, args: &[u8], stamp: Time) -> (SyncResponse, bool) {
-    let request: SyncRequest = match read(args) {
-        Ok(request) => request,
-        Err(message) => return (refused(message), false),
-    };
+pub fn answer(
+    rtc: &mut Rtc,
+    state: &mut State,
+    request: &SyncRequest,
+    stamp: Time,
+) -> (SyncResponse, bool) {
     let mut interface = match rtc.interface(state, &request.interface) {
         Ok(interface) => interface,
         Err(error) => return (refused(error.to_string()), false),
     };
+    let sequences: BTreeMap<Uuid, Sequence> = request
+        .sequences
+        .iter()
+        .map(|stated| (stated.uuid, stated.sequence))
+        .collect();
     let mut changed = false;
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
     for status in &request.statuses {
-        let outcome = report(&mut interface, status, &request.sequences);
+        let outcome = report(&mut interface, status, sequences.get(&status.uuid).copied());
         changed |= outcome.is_ok();
         results.push(result(status.uuid, outcome));
     }
@@ -136,10 +144,9 @@ pub fn answer(rtc: &mut Rtc, state: &mut State, args: &[u8], stamp: Time) -> (Sy
 fn report(
     interface: &mut Interface<'_>,
     status: &CooperateStatus,
-    sequences: &[StatedSequence],
+    stated: Option<Sequence>,
 ) -> Result<(), cooperation::rtc::RtcError> {
     let id = SceneId::from(status.uuid);
-    let stated = sequences.iter().find(|stated| stated.uuid == status.uuid);
     let CooperateStatus {
         safe,
         requested,
@@ -149,9 +156,9 @@ fn report(
         ..
     } = *status;
     match stated {
-        Some(stated) => interface.update_cooperate_status_in(
+        Some(sequence) => interface.update_cooperate_status_in(
             id,
-            stated.sequence,
+            sequence,
             safe,
             state.r#type,
             start_distance,
@@ -185,7 +192,9 @@ fn result<E: ToString>(uuid: Uuid, outcome: Result<(), E>) -> SyncResult {
     }
 }
 
-fn refused(message: String) -> SyncResponse {
+/// A response refusing the request as a whole.
+#[must_use]
+pub fn refused(message: String) -> SyncResponse {
     SyncResponse {
         success: false,
         message,
@@ -194,7 +203,10 @@ fn refused(message: String) -> SyncResponse {
 }
 
 /// The request, or a message naming the field that does not decode.
-fn read(args: &[u8]) -> Result<SyncRequest, String> {
+///
+/// # Errors
+/// The message.
+pub fn read(args: &[u8]) -> Result<SyncRequest, String> {
     if args.len() > cooperation::wire::MAX_REQUEST_BYTES {
         return Err(format!(
             "the request is {} bytes, more than the {} a request may have",

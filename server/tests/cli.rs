@@ -43,6 +43,14 @@ fn a_node_that_cannot_start_says_why() {
         "bad.yaml",
     );
     refused(&["--listen", "127.0.0.1:0", "--rate", "0"], "--rate 0");
+    refused(
+        &["--listen", "127.0.0.1:0", "--rate", "1e-20"],
+        "--rate 0.00000000000000000001",
+    );
+    refused(
+        &["--listen", "127.0.0.1:0", "--max-clients", "0"],
+        "0 clients: give from 1 to",
+    );
     // An address already taken.
     let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
     let address = taken.local_addr().expect("its address").to_string();

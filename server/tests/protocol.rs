@@ -30,7 +30,11 @@ async fn bad_requests_are_answered_with_a_status_naming_the_problem() {
     let mut client = Client::connect(&served.url).await;
     refused(&mut client, "{not json", "not JSON").await;
     refused(&mut client, "[1, 2]", "not a rosbridge frame").await;
-    refused(&mut client, r#"{"id": "x"}"#, "not a rosbridge frame").await;
+    let status = refused(&mut client, r#"{"id": "x"}"#, "not a rosbridge frame").await;
+    assert_eq!(
+        status["id"], "x",
+        "the id of a frame that is not rosbridge's is echoed"
+    );
     let status = refused(
         &mut client,
         r#"{"op": "fly", "id": "f1"}"#,
@@ -86,6 +90,26 @@ async fn a_failed_call_is_also_answered_with_a_failed_service_response() {
         response["values"]
             .as_str()
             .is_some_and(|msg| msg.contains("no service")),
+        "{response}"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_call_that_does_not_read_is_answered_too() {
+    let served = serve(Options::default()).await;
+    let mut client = Client::connect(&served.url).await;
+    client
+        .send_text(r#"{"op": "call_service", "id": "n5", "service": 5}"#)
+        .await;
+    let status = client.next_op("status").await;
+    assert_eq!(status["id"], "n5", "{status}");
+    let response = client.next_op("service_response").await;
+    assert_eq!(response["id"], "n5", "{response}");
+    assert_eq!(response["result"], false, "{response}");
+    assert!(
+        response["values"]
+            .as_str()
+            .is_some_and(|msg| msg.starts_with("not a rosbridge frame")),
         "{response}"
     );
 }
@@ -170,7 +194,7 @@ async fn binary_and_oversized_frames_are_refused_and_the_connection_goes_on() {
         "{status}"
     );
     let big = format!(
-        r#"{{"op": "call_service", "service": "{}", "args": {{"pad": "{}"}}}}"#,
+        r#"{{"op": "call_service", "id": "big", "service": "{}", "args": {{"pad": "{}"}}}}"#,
         "/api/planning/cooperation/get_policies",
         "x".repeat(5000)
     );
@@ -180,6 +204,14 @@ async fn binary_and_oversized_frames_are_refused_and_the_connection_goes_on() {
             .as_str()
             .is_some_and(|m| m.contains("a frame of 5")),
         "{status}"
+    );
+    assert_eq!(status["id"], "big", "{status}");
+    // The call is answered as failed, so a client waiting for it is not left waiting.
+    client.send_text(&big).await;
+    let response = client.next_op("service_response").await;
+    assert_eq!(
+        (&response["id"], &response["result"]),
+        (&json!("big"), &json!(false))
     );
 
     // Over the hard limit the connection ends; the node serves others on.
@@ -307,14 +339,93 @@ async fn a_client_sending_faster_than_it_reads_loses_no_answer() {
     })
     .await;
     let mut client = Client::connect(&served.url).await;
-    for n in 0..500 {
+    // About 3.5 MB of answers: more than the sockets buffer, so the queue of 4 fills and the
+    // node stops reading the client for a while.
+    for n in 0..5_000 {
         client
             .send(&json!({"op": "call_service", "id": n, "service": "/api/planning/cooperation/get_policies"}))
             .await;
     }
-    for n in 0..500 {
+    for n in 0..5_000 {
         let response = client.next_op("service_response").await;
         assert_eq!(response["id"], n, "answers in order, none dropped");
         assert_eq!(response["result"], true);
     }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_silent_client_is_disconnected_and_a_listening_one_is_not() {
+    let served = serve(Options {
+        limits: Limits {
+            keepalive: std::time::Duration::from_millis(100),
+            ..Limits::default()
+        },
+        ..Options::default()
+    })
+    .await;
+    let mut silent = Client::connect(&served.url).await;
+    let mut listening = Client::connect(&served.url).await;
+    // Reading answers the node's pings; not reading leaves them unanswered.
+    let quiet = tokio::time::timeout(std::time::Duration::from_secs(1), listening.next()).await;
+    assert!(
+        quiet.is_err(),
+        "no frame but pings for a client that asks nothing: {quiet:?}"
+    );
+    let answer = listening
+        .call("/api/planning/cooperation/get_policies", json!({}))
+        .await;
+    assert_eq!(
+        answer["result"], true,
+        "the listening client is still served"
+    );
+    // `next` fails the test unless the silent client's connection has ended.
+    while let Some(frame) = silent.next().await {
+        panic!("a frame for a silent client: {frame}");
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn options_that_cannot_run_a_node_are_refused() {
+    let zero = std::time::Duration::ZERO;
+    for options in [
+        Options {
+            publish_every: zero,
+            ..Options::default()
+        },
+        Options {
+            tick_every: zero,
+            ..Options::default()
+        },
+        Options {
+            max_clients: 0,
+            ..Options::default()
+        },
+        Options {
+            limits: Limits {
+                keepalive: zero,
+                ..Limits::default()
+            },
+            ..Options::default()
+        },
+        Options {
+            limits: Limits {
+                write_timeout: zero,
+                ..Limits::default()
+            },
+            ..Options::default()
+        },
+    ] {
+        let problem = options.problem().expect("a problem");
+        let config = cooperation::settings::parse(common::SETTINGS).expect("settings");
+        let node = std::sync::Arc::new(cooperation_server::Node::new(config).expect("a node"));
+        let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
+            .await
+            .expect("a port");
+        let error = cooperation_server::serve(listener, node, options, async {})
+            .await
+            .expect_err("refused");
+        assert_eq!(error.kind(), std::io::ErrorKind::InvalidInput);
+        assert_eq!(error.to_string(), problem);
+    }
+    assert_eq!(Options::default().problem(), None);
 }
