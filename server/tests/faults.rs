@@ -10,6 +10,18 @@ use common::{operator_decision, serve, status, Client, WAIT};
 use cooperation_server::{Limits, Options};
 use serde_json::json;
 
+/// Scenes 1 to 500 of the `intersection` interface, registered by a module that then leaves
+/// (they live for the settings' 10 s).
+async fn five_hundred_scenes(url: &str) {
+    let mut module = Client::connect(url).await;
+    for batch in 0..5_u128 {
+        let scenes: Vec<_> = (0..100)
+            .map(|n| status(batch * 100 + n + 1, true, 5.0))
+            .collect();
+        assert_eq!(module.sync("intersection", scenes).await["success"], true);
+    }
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_publication_after_an_accepted_command_shows_it() {
     // The publication that shows a change may also reach the client before the answer; the
@@ -86,15 +98,8 @@ async fn a_stalled_subscriber_is_disconnected_and_others_are_served_meanwhile() 
         ..Options::default()
     })
     .await;
-    let mut module = Client::connect(&served.url).await;
     // Big publications, to fill the stalled client's socket buffers quickly.
-    for batch in 0..5_u128 {
-        let scenes: Vec<_> = (0..100)
-            .map(|n| status(batch * 100 + n + 1, true, 5.0))
-            .collect();
-        let synced = module.sync("intersection", scenes).await;
-        assert_eq!(synced["success"], true);
-    }
+    five_hundred_scenes(&served.url).await;
     let mut stalled = Client::connect(&served.url).await;
     stalled.subscribe("/api/planning/velocity_factors").await;
     // While it reads nothing, another client's commands are answered and published to it.
@@ -141,13 +146,7 @@ async fn a_slow_subscriber_skips_publications_and_each_is_whole_and_current() {
     })
     .await;
     // 500 scenes: publications of about 90 KB, 200 a second.
-    let mut module = Client::connect(&served.url).await;
-    for batch in 0..5_u128 {
-        let scenes: Vec<_> = (0..100)
-            .map(|n| status(batch * 100 + n + 1, true, 5.0))
-            .collect();
-        assert_eq!(module.sync("intersection", scenes).await["success"], true);
-    }
+    five_hundred_scenes(&served.url).await;
     let mut slow = Client::connect(&served.url).await;
     slow.subscribe("/api/planning/velocity_factors").await;
     // It reads nothing for 2 s (about 400 publications, 36 MB), during which an operator
