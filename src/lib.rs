@@ -8,6 +8,11 @@
 //!
 //! The core is sans-IO: it reads no clock (time arrives as [`Input::Tick`]), makes no
 //! identifiers (they arrive in [`Input::Register`]), draws no random numbers and does no I/O.
+//! It holds no lock and speaks no protocol: the AD API's messages and `ResponseStatus` codes,
+//! TIER IV's RTC interface, the settings file and a lock for callers on several threads are the
+//! `cooperation-ros` crate's, the ring around this one. The model checker's hooks
+//! (`State::relabel`, `State::with_table_layout`, `TableLayout`) are public with the
+//! `verification` feature only.
 //!
 //! # Example
 //!
@@ -27,17 +32,17 @@
 //! assert_eq!(state.apply(&register)?.rule, Rule::RegisterNew);
 //! assert_eq!(state.merged_decision(id), Some(Decision::Deactivate));
 //!
-//! // The operator overrides it.
-//! let response = state.set_commands(vec![Command { id, decision: OperatorDecision::Activate }]);
-//! assert!(response.status.success);
+//! // The operator overrides it (the AD API's `set_commands`).
+//! let command = Command { id, decision: OperatorDecision::Activate };
+//! assert_eq!(state.apply(&Input::SetCommands { commands: vec![command] })?.rule, Rule::CommandApply);
 //! assert_eq!(state.merged_decision(id), Some(Decision::Activate));
 //!
 //! // A command for an identifier nobody registered is refused, and changes nothing.
 //! let before = state.clone();
 //! let stray = Command { id: SceneId::from_u128(0x9999), decision: OperatorDecision::Activate };
-//! let response = state.set_commands(vec![stray]);
-//! assert!(!response.status.success);
-//! assert_eq!(response.outcomes, [CommandOutcome::Failed(CommandFailure::UnknownScene)]);
+//! let rejection = state.apply(&Input::SetCommands { commands: vec![stray] }).unwrap_err();
+//! assert_eq!(rejection.rule(), Rule::CommandUnknown);
+//! assert_eq!(rejection.to_string(), "no command applied: command 0 (scene 00000000-0000-0000-0000-000000009999): unknown scene");
 //! assert_eq!(state, before);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -59,17 +64,9 @@ mod module;
 mod output;
 mod phase;
 mod rejection;
-mod ros;
-pub mod rtc;
 mod rule;
-#[cfg(feature = "settings")]
-#[doc = include_str!("../docs/settings.md")]
-pub mod settings;
-mod shared;
 mod state;
 mod table;
-#[cfg(feature = "wire")]
-pub mod wire;
 
 pub use decision::{merge, Decision, OperatorDecision, Policy};
 pub use detail::Detail;
@@ -81,14 +78,15 @@ pub use input::{Command, Described, Input, PolicySetting, Report};
 
 pub use module::{Behavior, Extension, InvalidName, Module, NameProblem, Sequence};
 pub use output::{
-    CommandsResponse, CooperatingFactor, CooperationStatus, FactorLists, PoliciesResponse,
-    ResponseStatus, SteeringFactor, VelocityFactor,
+    CooperatingFactor, CooperationStatus, FactorLists, SteeringFactor, VelocityFactor,
 };
 pub use phase::Phase;
 pub use rejection::{CommandFailure, CommandOutcome, Rejection, RetireReason, Retirement};
 pub use rule::Rule;
-pub use shared::Shared;
-pub use state::{Config, ConfigError, Invariant, Limits, Scene, State, Transition, Violation};
+pub use state::{
+    Config, ConfigError, Invariant, Limits, Scene, SequenceRejection, State, Transition, Violation,
+};
+#[cfg(feature = "verification")]
 pub use table::TableLayout;
 
 pub mod guide {
@@ -99,9 +97,6 @@ pub mod guide {
 
     #[doc = include_str!("../docs/guide-operator.md")]
     pub mod operator {}
-
-    #[doc = include_str!("../docs/rtc.md")]
-    pub mod rtc {}
 }
 
 /// The README's example, compiled and run as a doctest.

@@ -1,12 +1,10 @@
-//! Outputs: cooperation statuses, the factor lists that carry them, and the AD API calls'
-//! responses.
+//! Outputs: cooperation statuses and the factor lists that carry them.
 
 use core::cmp::Ordering;
 
 use crate::{
-    Behavior, Command, CommandOutcome, Decision, Detail, Direction, Distance, Geometry, Input,
-    OperatorDecision, PolicySetting, Pose, Rejection, Scene, SceneId, Sequence, State,
-    SteeringStatus, Transition, VelocityStatus,
+    Behavior, Decision, Detail, Direction, Distance, Geometry, OperatorDecision, Pose, Scene,
+    SceneId, Sequence, State, SteeringStatus, VelocityStatus,
 };
 
 /// A live scene as an operator sees it (AD API `CooperationStatus`, `[COOP-OUT-STATUS.1]`).
@@ -387,41 +385,6 @@ impl State {
     fn keyed_scene(&self, key: u128) -> Option<(SceneId, &Scene)> {
         self.scene_at((key & u128::from(u32::MAX)) as usize)
     }
-
-    /// The AD API `set_commands` call (`[COOP-API-SET-COMMANDS.1]`): applies the batch, all or
-    /// nothing, and answers with the status, every command's outcome and what
-    /// [`apply`](Self::apply) returned (the rule that fired or refused).
-    pub fn set_commands(&mut self, commands: Vec<Command>) -> CommandsResponse {
-        let len = commands.len();
-        let result = self.apply(&Input::SetCommands { commands });
-        let outcomes = match &result {
-            Ok(_) => vec![CommandOutcome::Applied; len],
-            Err(Rejection::Commands { outcomes, .. }) => outcomes.clone(),
-            Err(_) => vec![CommandOutcome::Withheld; len],
-        };
-        CommandsResponse {
-            status: ResponseStatus::for_batch(len, &result),
-            outcomes,
-            result,
-        }
-    }
-
-    /// The AD API `set_policies` call (`[COOP-API-SET-POLICIES.1]`): applies the batch, all or
-    /// nothing, and answers with the status and what [`apply`](Self::apply) returned.
-    pub fn set_policies(&mut self, policies: Vec<PolicySetting>) -> PoliciesResponse {
-        let len = policies.len();
-        let result = self.apply(&Input::SetPolicies { policies });
-        PoliciesResponse {
-            status: ResponseStatus::for_batch(len, &result),
-            result,
-        }
-    }
-
-    /// The AD API `get_policies` call (`[COOP-POL-GET.1]`): every module's current policy.
-    #[must_use]
-    pub fn get_policies(&self) -> (ResponseStatus, Vec<PolicySetting>) {
-        (ResponseStatus::success(), self.policies().collect())
-    }
 }
 
 /// Caller-owned buffers for both factor lists, filled by [`State::factors_into`] and reused
@@ -434,90 +397,4 @@ pub struct FactorLists {
     pub steering: Vec<SteeringFactor>,
     /// Sort keys, kept only so that their memory is reused.
     keys: Vec<u128>,
-}
-
-/// The answer to `set_commands`: the AD API status plus one outcome per command, in order.
-#[derive(Clone, PartialEq, Eq, Debug)]
-pub struct CommandsResponse {
-    /// The AD API response status.
-    pub status: ResponseStatus,
-    /// What happened to each command.
-    pub outcomes: Vec<CommandOutcome>,
-    /// What [`State::apply`] returned: the rule that fired, or the rejection with its rule.
-    pub result: Result<Transition, Rejection>,
-}
-
-/// The answer to [`State::set_policies`].
-#[derive(Clone, PartialEq, Eq, Debug)]
-pub struct PoliciesResponse {
-    /// The AD API response status.
-    pub status: ResponseStatus,
-    /// What [`State::apply`] returned: the rule that fired, or the rejection with its rule.
-    pub result: Result<Transition, Rejection>,
-}
-
-/// The AD API `ResponseStatus` (`autoware_adapi_v1_msgs/ResponseStatus`): success, a code and
-/// a message (`[COOP-API-STATUS.1]`). Code 0 is plain success; the constants are errors (5xxxx)
-/// and warnings (6xxxx).
-///
-/// The same type is the wire message (`wire::ResponseStatus`, with the `wire`
-/// feature): read as rosbridge reads a message, a field left out takes its default, and a
-/// field it does not have is refused.
-#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
-pub struct ResponseStatus {
-    /// Whether the call did what was asked.
-    pub success: bool,
-    /// `0` on plain success; otherwise one of the constants below.
-    pub code: u16,
-    /// Empty on plain success; otherwise what went wrong or what to know.
-    pub message: String,
-}
-
-impl ResponseStatus {
-    /// An error of no more specific kind.
-    pub const UNKNOWN: u16 = 50_000;
-    /// The service is not ready.
-    pub const SERVICE_UNREADY: u16 = 50_001;
-    /// The service timed out.
-    pub const SERVICE_TIMEOUT: u16 = 50_002;
-    /// A transform failed.
-    pub const TRANSFORM_ERROR: u16 = 50_003;
-    /// The request's parameters were refused: every rejection of a call.
-    pub const PARAMETER_ERROR: u16 = 50_004;
-    /// Warning: the call is deprecated.
-    pub const DEPRECATED: u16 = 60_000;
-    /// Warning: the call succeeded but changed nothing (an empty batch).
-    pub const NO_EFFECT: u16 = 60_001;
-
-    /// Plain success: `success = true`, `code = 0`, empty message.
-    #[must_use]
-    pub const fn success() -> Self {
-        Self {
-            success: true,
-            code: 0,
-            message: String::new(),
-        }
-    }
-
-    /// The status of a batch call of `len` entries with this result: a rejection is a
-    /// `PARAMETER_ERROR` carrying its explanation; an accepted empty batch is a success with
-    /// the `NO_EFFECT` warning.
-    #[must_use]
-    pub fn for_batch(len: usize, result: &Result<Transition, Rejection>) -> Self {
-        match result {
-            Err(rejection) => Self {
-                success: false,
-                code: Self::PARAMETER_ERROR,
-                message: rejection.to_string(),
-            },
-            Ok(_) if len == 0 => Self {
-                success: true,
-                code: Self::NO_EFFECT,
-                message: "the batch is empty".into(),
-            },
-            Ok(_) => Self::success(),
-        }
-    }
 }

@@ -88,12 +88,10 @@ impl fmt::Display for CommandFailure {
     }
 }
 
-/// The outcome of one command of a `set_commands` batch.
+/// The outcome of one command of a rejected `SetCommands` batch ([`Rejection::Commands`]).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum CommandOutcome {
-    /// The command was applied (the whole batch was).
-    Applied,
     /// The command could have applied, but another command of the batch failed, so nothing was.
     Withheld,
     /// The command could not apply.
@@ -273,7 +271,7 @@ impl fmt::Display for Rejection {
                         .enumerate()
                         .filter_map(|(index, outcome)| match outcome {
                             CommandOutcome::Failed(failure) => Some((index, failure)),
-                            CommandOutcome::Applied | CommandOutcome::Withheld => None,
+                            CommandOutcome::Withheld => None,
                         });
                 for (n, ((index, failure), id)) in failures.zip(failed).enumerate() {
                     let separator = if n == 0 { " " } else { "; " };

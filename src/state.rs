@@ -5,12 +5,14 @@
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
-use crate::table::{IdTable, TableLayout};
+use crate::table::IdTable;
+#[cfg(feature = "verification")]
+use crate::table::TableLayout;
 use policies::Policies;
 
 use crate::{
-    Command, CommandFailure, CommandOutcome, Input, Module, OperatorDecision, Phase, Policy,
-    PolicySetting, Rejection, Report, RetireReason, Retirement, Rule, SceneId,
+    Command, CommandFailure, CommandOutcome, Input, Module, OperatorDecision, Phase, PolicySetting,
+    Rejection, Report, RetireReason, Retirement, Rule, SceneId,
 };
 
 /// What an accepted input did.
@@ -73,6 +75,32 @@ enum Plan<'a> {
 /// With the `serde` feature a state serializes with its maps as lists, and deserializes only if
 /// [`State::new`] would accept its limits, no module, scene or retired identifier is listed
 /// twice, and it passes [`State::check_invariants`]: only a state the core can hold reads back.
+///
+/// # Methods by role
+///
+/// - **Making one:** [`new`](Self::new), from a [`Config`].
+/// - **Changing it** (the only two writers): [`apply`](Self::apply), one input, and
+///   [`apply_all`](Self::apply_all), a sequence of inputs all or none. Each answers the rule
+///   that fired or the typed [`Rejection`].
+/// - **Asking about scenes:** [`scene`](Self::scene), [`scenes`](Self::scenes),
+///   [`scene_count`](Self::scene_count), [`merged_decision`](Self::merged_decision),
+///   [`merged_decisions`](Self::merged_decisions), [`force_activated`](Self::force_activated),
+///   [`force_deactivated`](Self::force_deactivated), [`status`](Self::status).
+/// - **Asking about identifiers, policies and limits:** [`retirement`](Self::retirement),
+///   [`retired_oldest_first`](Self::retired_oldest_first),
+///   [`retired_by_id`](Self::retired_by_id), [`policy`](Self::policy),
+///   [`policies`](Self::policies) (the AD API's `get_policies`), [`limits`](Self::limits).
+/// - **Outputs for the operator** (filling caller-owned buffers):
+///   [`statuses_into`](Self::statuses_into),
+///   [`velocity_factors_into`](Self::velocity_factors_into),
+///   [`steering_factors_into`](Self::steering_factors_into),
+///   [`velocity_factors_with`](Self::velocity_factors_with),
+///   [`steering_factors_with`](Self::steering_factors_with),
+///   [`factors_into`](Self::factors_into).
+/// - **Checking it:** [`check_invariants`](Self::check_invariants), spec §8.
+/// - **The model checker's hooks**, with the `verification` feature only: `relabel` (renaming
+///   identifiers, for symmetry reduction), `with_table_layout` and `table_layout` (the hashed
+///   table from the first scene).
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(into = "raw::State", try_from = "raw::State"))]
@@ -102,16 +130,21 @@ impl State {
         })
     }
 
-    /// This state with its live scenes laid out as `layout` says. Nothing a rule, a query or a
+    /// This state with its live scenes laid out as `layout` says. A model checker's hook, with
+    /// the `verification` feature only.
+    /// Nothing a rule, a query or a
     /// comparison sees changes: the layout is speed only. The model checker uses
     /// [`TableLayout::Colliding`] to explore the hashed table with a handful of scenes.
+    #[cfg(feature = "verification")]
     #[must_use]
     pub fn with_table_layout(mut self, layout: TableLayout) -> Self {
         self.scenes = self.scenes.relaid(layout);
         self
     }
 
-    /// How the live scenes are laid out.
+    /// How the live scenes are laid out. A model checker's hook, with the `verification`
+    /// feature only.
+    #[cfg(feature = "verification")]
     #[must_use]
     pub const fn table_layout(&self) -> TableLayout {
         self.scenes.layout()
@@ -127,7 +160,7 @@ impl State {
     /// A [`Rejection`] naming the rule that refused the input.
     pub fn apply(&mut self, input: &Input) -> Result<Transition, Rejection> {
         let plan = self.decide(input)?;
-        let transition = self.commit(plan);
+        let transition = self.commit(plan, &mut Forget);
         debug_assert_eq!(self.check_invariants(), Ok(()), "after {input:?}");
         Ok(transition)
     }
@@ -159,11 +192,14 @@ impl State {
         }
     }
 
-    /// Carries out a decision. No guard here: every choice was made by `decide`.
+    /// Carries out a decision. No guard here: every choice was made by `decide`. Before each
+    /// write it tells `journal` what the write overwrites ([`State::apply_all`] keeps that, to
+    /// take a batch back; [`State::apply`] forgets it, at no cost).
     #[inline(always)]
-    fn commit(&mut self, plan: Plan<'_>) -> Transition {
+    fn commit(&mut self, plan: Plan<'_>, journal: &mut impl Journal) -> Transition {
         match plan {
             Plan::Register { id, module, report } => {
+                journal.record(|| Undo::Registered(id));
                 let scene = Scene {
                     module,
                     phase: Phase::Waiting,
@@ -178,6 +214,9 @@ impl State {
                 Transition::by(Rule::RegisterNew)
             }
             Plan::Update { at, phase, report } => {
+                if let Some((id, scene)) = self.scenes.entry_at(at) {
+                    journal.record(|| Undo::Changed(id, scene.clone()));
+                }
                 if let Some(scene) = self.scenes.value_at_mut(at) {
                     scene.phase = phase;
                     scene.module_decision = report.decision;
@@ -189,7 +228,7 @@ impl State {
                 Transition::by(Rule::OwnerUpdate)
             }
             Plan::Retire { id, reason, rule } => {
-                self.retire(id, reason);
+                self.retire(id, reason, journal);
                 Transition {
                     rule,
                     retired: vec![id],
@@ -200,11 +239,14 @@ impl State {
                 expired,
                 rule,
             } => {
+                journal.record(|| {
+                    Undo::Aged(self.scenes.iter().map(|(id, s)| (id, s.age_ms)).collect())
+                });
                 for scene in self.scenes.values_mut() {
                     scene.age_ms = scene.age_ms.saturating_add(elapsed_ms);
                 }
                 for id in &expired {
-                    self.retire(*id, RetireReason::Expired);
+                    self.retire(*id, RetireReason::Expired, journal);
                 }
                 Transition {
                     rule,
@@ -213,6 +255,9 @@ impl State {
             }
             Plan::Commands(commands) => {
                 for command in commands {
+                    if let Some(scene) = self.scenes.get(command.id) {
+                        journal.record(|| Undo::Changed(command.id, scene.clone()));
+                    }
                     if let Some(scene) = self.scenes.get_mut(command.id) {
                         scene.operator_decision = command.decision;
                     }
@@ -221,6 +266,9 @@ impl State {
             }
             Plan::Policies(settings) => {
                 for setting in settings {
+                    if let Some(policy) = self.policies.get(setting.module) {
+                        journal.record(|| Undo::Policy(setting.module, policy));
+                    }
                     if let Some(policy) = self.policies.get_mut(setting.module) {
                         *policy = setting.policy;
                     }
@@ -345,16 +393,19 @@ impl State {
 
     /// Moves a live scene to the retired set, forgetting the oldest retired identifier if the
     /// set is full.
-    fn retire(&mut self, id: SceneId, reason: RetireReason) {
+    fn retire(&mut self, id: SceneId, reason: RetireReason, journal: &mut impl Journal) {
         // [COOP-RETIRE.1]
         let Some(scene) = self.scenes.remove(id) else {
             return;
         };
+        journal.record(|| Undo::Retired(id, scene.clone()));
         while self.retired_order.len() >= self.limits.retired_capacity {
-            match self.retired_order.pop_front() {
-                Some(oldest) => self.retired.remove(&oldest),
-                None => break,
+            let Some(oldest) = self.retired_order.pop_front() else {
+                break;
             };
+            if let Some(retirement) = self.retired.remove(&oldest) {
+                journal.record(|| Undo::Forgot(oldest, retirement));
+            }
         }
         self.retired.insert(
             id,
@@ -490,6 +541,7 @@ impl State {
     }
 }
 
+mod batch;
 mod config;
 mod invariants;
 mod policies;
@@ -498,6 +550,8 @@ mod queries;
 mod raw;
 mod scene;
 
+pub use batch::SequenceRejection;
+use batch::{Forget, Journal, Undo};
 pub use config::{Config, ConfigError, Limits};
 pub use invariants::{Invariant, Violation};
 pub use scene::Scene;

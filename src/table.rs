@@ -38,6 +38,10 @@ const EMPTY: usize = usize::MAX;
 
 /// How a state's table of live scenes is laid out. No rule, query or comparison can tell the
 /// layouts apart; only speed differs.
+///
+/// A hook for the model checker, public with the `verification` feature only: planners always
+/// get [`TableLayout::Adaptive`].
+#[cfg_attr(not(feature = "verification"), allow(unreachable_pub, dead_code))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
@@ -64,6 +68,7 @@ struct Layout {
     /// The hash of an identifier; its low bits pick the bucket.
     hash: fn(SceneId) -> u64,
     /// The layout this stands for.
+    #[cfg_attr(not(feature = "verification"), allow(dead_code))]
     name: TableLayout,
 }
 
@@ -148,11 +153,13 @@ impl<V> IdTable<V> {
     }
 
     /// The layout.
+    #[cfg(feature = "verification")]
     pub(crate) const fn layout(&self) -> TableLayout {
         self.layout.name
     }
 
     /// The same entries laid out as `layout` says.
+    #[cfg(any(test, feature = "verification"))]
     pub(crate) fn relaid(self, layout: TableLayout) -> Self {
         let mut table = Self::with_layout(layout);
         for (id, value) in self {
@@ -163,6 +170,7 @@ impl<V> IdTable<V> {
 
     /// A table of these entries, laid out as this one; of two with one identifier, the later
     /// one stays.
+    #[cfg(feature = "verification")]
     pub(crate) fn like(&self, entries: impl IntoIterator<Item = (SceneId, V)>) -> Self {
         let mut table = Self::with(self.layout);
         for (id, value) in entries {

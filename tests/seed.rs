@@ -75,11 +75,12 @@ fn seed_sequence_11_steps() {
         })
     );
     // 7. The operator sends a command to change lanes; 8. the scene updates its operator decision.
-    let response = state.set_commands(vec![Command {
+    let commands = vec![Command {
         id: factor.scene().expect("a scene's factor"),
         decision: OperatorDecision::Activate,
-    }]);
-    assert_eq!(response.status, ResponseStatus::success());
+    }];
+    let transition = state.apply(&Input::SetCommands { commands });
+    assert_eq!(transition.map(|t| t.rule), Ok(Rule::CommandApply));
     assert_eq!(
         state.scene(scene).map(Scene::operator_decision),
         Some(OperatorDecision::Activate)

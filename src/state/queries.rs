@@ -1,7 +1,5 @@
 //! What a state answers: its scenes, retirements, policies and limits.
 
-use std::collections::BTreeMap;
-
 use super::{Limits, Scene, State};
 use crate::{Decision, Module, Policy, PolicySetting, Retirement, SceneId};
 
@@ -68,10 +66,11 @@ impl State {
     /// expiring on the same tick retire in the order of their new names. Model checkers use it
     /// for symmetry reduction.
     ///
-    /// It is public because the model checker of this crate is a crate of its own, which must
-    /// check the very `State` consumers use, through its public API. It is safe to call: it
-    /// builds a new state and changes nothing, and the state it builds holds every invariant
+    /// A model checker's hook, public with the `verification` feature only: the model checker
+    /// of this crate is a crate of its own, which must check the very `State` consumers use.
+    /// It builds a new state and changes nothing, and the state it builds holds every invariant
     /// this one holds.
+    #[cfg(feature = "verification")]
     #[must_use]
     pub fn relabel(&self, rename: impl Fn(SceneId) -> SceneId) -> Option<Self> {
         let scenes = self.scenes.like(
@@ -79,7 +78,7 @@ impl State {
                 .iter()
                 .map(|(id, scene)| (rename(id), scene.clone())),
         );
-        let retired: BTreeMap<SceneId, Retirement> = self
+        let retired: std::collections::BTreeMap<SceneId, Retirement> = self
             .retired
             .iter()
             .map(|(id, retirement)| (rename(*id), *retirement))

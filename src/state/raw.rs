@@ -6,7 +6,8 @@
 use core::fmt;
 use std::collections::BTreeSet;
 
-use super::{ConfigError, Limits, Module, Policy, Retirement, Scene, SceneId, Violation};
+use super::{ConfigError, Limits, Module, Retirement, Scene, SceneId, Violation};
+use crate::Policy;
 
 #[derive(serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]

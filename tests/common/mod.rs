@@ -1,5 +1,10 @@
-//! Fixtures shared by the integration tests.
+//! Fixtures shared by the integration tests (the adapters' tests use them too:
+//! `ros/tests/common/mod.rs`).
+
 #![allow(dead_code, unreachable_pub)]
+
+pub mod forms;
+pub mod inputs;
 
 use cooperation::*;
 
@@ -193,30 +198,6 @@ pub fn churn(state: &mut State, ids: std::ops::RangeInclusive<u128>) {
     }
 }
 
-/// The standard RTC interfaces over a core that has every bound module, each with the policy
-/// upstream's `enable_rtc` flag stands for, and the default limits (a 10 s TTL, as upstream).
-pub fn rtc_setup(enable_rtc: bool) -> (rtc::Rtc, State) {
-    let rtc = rtc::Rtc::standard();
-    let state = State::new(Config::new(rtc.policies(enable_rtc))).expect("valid configuration");
-    (rtc, state)
-}
-
-/// A `CooperateCommands` request; each command's module is `NONE`, as a default-constructed
-/// upstream message has it.
-pub fn rtc_commands(list: &[(SceneId, u8)]) -> rtc::CooperateCommandsRequest {
-    rtc::CooperateCommandsRequest {
-        stamp: rtc::Time::default(),
-        commands: list
-            .iter()
-            .map(|&(id, command)| rtc::CooperateCommand {
-                uuid: id.into(),
-                module: rtc::Module::default(),
-                command: rtc::Command::new(command),
-            })
-            .collect(),
-    }
-}
-
 /// The order of distances in the factor lists, written from the words of `[COOP-OUT-ORDER.1]`
 /// rather than with the library's comparison: ascending; `-0.0` before `0.0`; every NaN, of
 /// either sign, after every number (`inf` included); positive NaNs before negative ones; NaNs
@@ -266,27 +247,4 @@ pub fn factor_listed_before(
         (None, None) => core::cmp::Ordering::Less,
     };
     spec_distance_order(a.0 .0, b.0 .0).then(tie).is_lt()
-}
-
-/// Registers scene `n` through the RTC interface `name`, in the first sequence it binds (an
-/// avoidance's shift out): safe, waiting, its section starting at `start` and ending at 90 m.
-pub fn rtc_register_at(rtc: &mut rtc::Rtc, state: &mut State, name: &str, n: u128, start: f32) {
-    let sequence = rtc
-        .bindings()
-        .iter()
-        .find(|binding| binding.name == name)
-        .and_then(|binding| binding.sequences.first().copied())
-        .expect("bound");
-    rtc.interface(state, name)
-        .expect("bound")
-        .update_cooperate_status_in(
-            id(n),
-            sequence,
-            true,
-            rtc::State::WAITING_FOR_EXECUTION,
-            start,
-            90.0,
-            false,
-        )
-        .expect("registers");
 }

@@ -9,7 +9,7 @@ pub fn spec() -> String {
 }
 
 /// The spec's text reader, shared with the model checker (one reader of the spec).
-#[path = "../../models/src/spec/text.rs"]
+#[path = "../../models/src/model/spec/text.rs"]
 pub mod spec_text;
 
 /// The rows of the first table whose header row starts with `header`, as trimmed cells.
