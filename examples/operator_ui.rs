@@ -1,10 +1,10 @@
 //! An operator interface's side of cooperation: read the statuses the planner publishes, act
-//! on scenes by identifier through `set_commands`, change a module's policy, and handle every
-//! answer. Run it with `cargo run --example operator_ui`.
+//! on scenes by identifier (the AD API's `set_commands`), change a module's policy, and handle
+//! every answer. Run it with `cargo run --example operator_ui`.
 
 use cooperation::{
     Behavior, Command, CommandOutcome, Config, Decision, Geometry, Input, Module, OperatorDecision,
-    Policy, PolicySetting, Report, SceneId, State,
+    Policy, PolicySetting, Rejection, Report, SceneId, State,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -58,11 +58,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             decision: OperatorDecision::Activate,
         })
         .collect();
-    let response = state.set_commands(batch);
-    println!(
-        "set_commands: success {}, code {}",
-        response.status.success, response.status.code
-    );
+    let applied = state.apply(&Input::SetCommands { commands: batch })?;
+    println!("set_commands: applied ({})", applied.rule);
 
     // A batch naming a scene that does not exist applies nothing, and says which and why.
     let stale = vec![
@@ -75,16 +72,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             decision: OperatorDecision::Deactivate,
         },
     ];
-    let response = state.set_commands(stale);
-    println!(
-        "set_commands: success {}, code {}: {}",
-        response.status.success, response.status.code, response.status.message
-    );
-    for (n, outcome) in response.outcomes.iter().enumerate() {
-        match outcome {
-            CommandOutcome::Applied => println!("  command {n}: applied"),
-            CommandOutcome::Withheld => println!("  command {n}: valid, withheld with the batch"),
-            CommandOutcome::Failed(why) => println!("  command {n}: {why}"),
+    match state.apply(&Input::SetCommands { commands: stale }) {
+        Ok(transition) => println!("set_commands: applied ({})", transition.rule),
+        Err(rejection) => {
+            println!("set_commands: refused by {}: {rejection}", rejection.rule());
+            if let Rejection::Commands { outcomes, .. } = &rejection {
+                for (n, outcome) in outcomes.iter().enumerate() {
+                    match outcome {
+                        CommandOutcome::Withheld => {
+                            println!("  command {n}: valid, withheld with the batch");
+                        }
+                        CommandOutcome::Failed(why) => println!("  command {n}: {why}"),
+                    }
+                }
+            }
         }
     }
 
@@ -93,22 +94,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         id: ids[1],
         decision: OperatorDecision::Undecided,
     };
-    let response = state.set_commands(vec![withdraw]);
+    let withdrawn = state.apply(&Input::SetCommands {
+        commands: vec![withdraw],
+    });
     println!(
-        "withdraw the intersection decision: success {}",
-        response.status.success
+        "withdraw the intersection decision: {:?}",
+        withdrawn.map(|t| t.rule)
     );
-    let response = state.set_policies(vec![PolicySetting {
+    let policies = vec![PolicySetting {
         module: intersection,
         policy: Policy::Optional,
-    }]);
-    println!(
-        "set_policies: success {} ({:?})",
-        response.status.success,
-        response.result.map(|t| t.rule)
-    );
-    let (_, policies) = state.get_policies();
-    for setting in policies {
+    }];
+    let set = state.apply(&Input::SetPolicies { policies });
+    println!("set_policies: {:?}", set.map(|t| t.rule));
+    // The AD API's get_policies.
+    for setting in state.policies() {
         println!("  {} is {}", setting.module, setting.policy);
     }
     println!(

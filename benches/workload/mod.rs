@@ -299,11 +299,11 @@ impl Registry for State {
     }
 
     fn set_commands(&mut self, commands: Vec<Command>) -> bool {
-        Self::set_commands(self, commands).status.success
+        self.apply(&Input::SetCommands { commands }).is_ok()
     }
 
     fn set_policies(&mut self, policies: Vec<PolicySetting>) -> bool {
-        Self::set_policies(self, policies).status.success
+        self.apply(&Input::SetPolicies { policies }).is_ok()
     }
 
     fn retired_capacity(&self) -> usize {

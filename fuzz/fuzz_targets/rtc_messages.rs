@@ -18,13 +18,14 @@
 
 use core::fmt::Debug;
 
-use cooperation::rtc::{
+use cooperation::{Config, Decision, Limits, Phase, SceneId, Sequence, State};
+use cooperation_ros::rtc::{
     self, AutoModeRequest, AutoModeResponse, AutoModeStatus, AutoModeStatusArray,
     AutoModeWithModuleRequest, AutoModeWithModuleResponse, CooperateCommand,
     CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse, CooperateStatus,
-    CooperateStatusArray, FieldError, ModuleType, Rtc, RtcError, Time, Uuid,
+    CooperateStatusArray, FieldError, ModuleType, Rtc, RtcError, StatusReport, Uuid,
 };
-use cooperation::{Config, Decision, Limits, Phase, SceneId, Sequence, State};
+use cooperation_ros::Time;
 use libfuzzer_sys::fuzz_target;
 use serde::{de::DeserializeOwned, Serialize};
 
@@ -71,7 +72,7 @@ fn first_undefined(
         return Some(format!("{command_field}.type"));
     }
     match state {
-        Some(state) if state > rtc::State::FAILED => Some("state.type".to_owned()),
+        Some(state) if state > rtc::Lifecycle::FAILED => Some("state.type".to_owned()),
         _ => None,
     }
 }
@@ -96,7 +97,7 @@ fn check_status(status: &CooperateStatus) -> Option<String> {
     if let Ok(parsed) = parsed {
         assert_eq!(rtc::Module::from(parsed.module), status.module);
         assert_eq!(rtc::Command::from(parsed.command), status.command_status);
-        assert_eq!(rtc::State::from(parsed.phase), status.state);
+        assert_eq!(rtc::Lifecycle::from(parsed.phase), status.state);
         assert_eq!(Uuid::from(parsed.id), status.uuid);
         assert_eq!(parsed.module_decision == Decision::Activate, status.safe);
     }
@@ -143,23 +144,21 @@ fn start() -> (Rtc, State) {
         unreachable!("a valid configuration")
     };
     for (n, name, phase) in [
-        (1, "lane_change_left", rtc::State::WAITING_FOR_EXECUTION),
-        (2, "intersection", rtc::State::RUNNING),
-        (3, "crosswalk", rtc::State::WAITING_FOR_EXECUTION),
-        (4, "crosswalk", rtc::State::WAITING_FOR_EXECUTION),
+        (1, "lane_change_left", rtc::Lifecycle::WAITING_FOR_EXECUTION),
+        (2, "intersection", rtc::Lifecycle::RUNNING),
+        (3, "crosswalk", rtc::Lifecycle::WAITING_FOR_EXECUTION),
+        (4, "crosswalk", rtc::Lifecycle::WAITING_FOR_EXECUTION),
     ] {
         let Ok(mut interface) = rtc.interface(&mut state, name) else {
             unreachable!("a bound interface")
         };
         let distance = 10.0 * n as f32;
-        let update = interface.update_cooperate_status(
-            id(n),
-            n % 2 == 0,
-            phase,
-            distance,
-            distance + 5.0,
-            n == 3,
-        );
+        let Ok(phase) = rtc::Lifecycle::new(phase).phase() else {
+            unreachable!("a lifecycle constant")
+        };
+        let mut report = StatusReport::new(id(n), n % 2 == 0, phase, distance, distance + 5.0);
+        report.requested = n == 3;
+        let update = interface.update_cooperate_status(&report);
         assert!(update.is_ok(), "{update:?}");
     }
     let Ok(mut crosswalk) = rtc.interface(&mut state, "crosswalk") else {
@@ -252,25 +251,12 @@ fn update(rtc: &mut Rtc, state: &mut State, stamp: Time, status: &CooperateStatu
     let sequence = sequence_for(rtc, &name, &status.uuid);
     let updated = call(rtc, state, stamp, |rtc, state| {
         let mut interface = rtc.interface(state, &name)?;
-        match sequence {
-            Some(sequence) => interface.update_cooperate_status_in(
-                id,
-                sequence,
-                status.safe,
-                status.state.r#type,
-                status.start_distance,
-                status.finish_distance,
-                status.requested,
-            ),
-            None => interface.update_cooperate_status(
-                id,
-                status.safe,
-                status.state.r#type,
-                status.start_distance,
-                status.finish_distance,
-                status.requested,
-            ),
-        }
+        let report = status.report()?;
+        let report = match sequence {
+            Some(sequence) => report.in_sequence(sequence),
+            None => report,
+        };
+        interface.update_cooperate_status(&report)
     });
     if updated.is_some() {
         let Ok(view) = rtc.view(state, &name) else {
@@ -445,11 +431,11 @@ fuzz_target!(|data: &[u8]| {
                 }
             }
         }
-        if let Some(phase) = fixpoint::<rtc::State>(line) {
+        if let Some(phase) = fixpoint::<rtc::Lifecycle>(line) {
             match phase.phase() {
-                Ok(decoded) => assert_eq!(rtc::State::from(decoded), phase),
+                Ok(decoded) => assert_eq!(rtc::Lifecycle::from(decoded), phase),
                 Err(error) => {
-                    assert!(phase.r#type > rtc::State::FAILED);
+                    assert!(phase.r#type > rtc::Lifecycle::FAILED);
                     assert_eq!(error.field.to_string(), "type");
                 }
             }

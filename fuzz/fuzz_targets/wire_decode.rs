@@ -3,7 +3,7 @@
 //! same JSON again.
 #![no_main]
 
-use cooperation::wire::*;
+use cooperation_ros::wire::*;
 use libfuzzer_sys::fuzz_target;
 use serde::{de::DeserializeOwned, Serialize};
 

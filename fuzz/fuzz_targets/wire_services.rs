@@ -5,11 +5,11 @@
 //! unchanged, and the state must keep its invariants whatever was asked.
 #![no_main]
 
-use cooperation::wire::Service;
 use cooperation::{
-    Behavior, Config, Decision, Detail, Geometry, Input, Limits, Module, Policy, Report,
-    ResponseStatus, SceneId, State,
+    Behavior, Config, Decision, Detail, Geometry, Input, Limits, Module, Policy, Report, SceneId,
+    State,
 };
+use cooperation_ros::wire::{self, ResponseStatus, Service};
 use libfuzzer_sys::fuzz_target;
 
 fn start() -> State {
@@ -64,7 +64,20 @@ fuzz_target!(|data: &[u8]| {
             service => {
                 let service = Service::ALL[usize::from(service)];
                 let before = state.clone();
-                let response = service.call_json(&mut state, body);
+                // Read, answered (or refused), written: the server's path.
+                let (response, changed) = match service.read(body) {
+                    Ok(request) => {
+                        let answer = request.answer(&mut state);
+                        (answer.response, answer.changed)
+                    }
+                    Err(malformed) => (service.refusal(&malformed), false),
+                };
+                assert_eq!(
+                    changed,
+                    state != before,
+                    "{service:?}: changed is what happened"
+                );
+                let response = wire::to_json(&response);
                 let Ok(answer) = serde_json::from_slice::<serde_json::Value>(&response) else {
                     panic!("the answer is not JSON")
                 };

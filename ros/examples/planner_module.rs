@@ -1,8 +1,8 @@
 //! A planning module's side of cooperation: open a scene when a decision is needed, report
 //! the module's judgment every planning cycle, drive with the merged decision, publish the
 //! factor streams, and close the scene when done. The modules and their default policies come
-//! from a settings file, `examples/planner_module.param.yaml`, one of them a user extension.
-//! Run it with `cargo run --example planner_module`.
+//! from a settings file, `ros/examples/planner_module.param.yaml`, one of them a user extension.
+//! Run it with `cargo run -p cooperation-ros --example planner_module`.
 
 use cooperation::{
     Behavior, Decision, Detail, Direction, Distance, Geometry, Input, Module, Phase, Policy, Pose,
@@ -17,7 +17,7 @@ const SETTINGS: &str = concat!(
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The caller reads the file; the library only parses its text.
-    let config = cooperation::settings::parse(&std::fs::read_to_string(SETTINGS)?)?;
+    let config = cooperation_ros::settings::parse(&std::fs::read_to_string(SETTINGS)?)?;
     let lane_change = Module::new(Behavior::LaneChange);
     let crosswalk = Module::new(Behavior::Crosswalk);
     // A behaviour of this planner's own, beside the AD API's.
@@ -84,11 +84,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // An operator approves in cycle 3 (in a real system this arrives through set_commands).
         if cycle == 3 {
             use cooperation::{Command, OperatorDecision};
-            let response = state.set_commands(vec![Command {
+            let commands = vec![Command {
                 id,
                 decision: OperatorDecision::Activate,
-            }]);
-            println!("  operator approves: success = {}", response.status.success);
+            }];
+            let approved = state.apply(&Input::SetCommands { commands })?;
+            println!("  operator approves: {}", approved.rule);
         }
         // Time passes between cycles; the caller measures it, the library never reads a clock.
         state.apply(&Input::Tick { elapsed_ms: 100 })?;

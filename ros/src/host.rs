@@ -1,0 +1,191 @@
+//! A process that hosts the core for others: the core with the bookkeeping its adapters keep
+//! ([`Host`]), and that value behind one lock ([`Shared`]).
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use cooperation::{State, Transition};
+
+use crate::rtc::{Interface, Rtc, RtcError, View};
+use crate::wire;
+
+/// The core as a process serving it keeps it: the [`State`], the RTC interfaces' routing
+/// ([`Rtc`]), and the monotonic time the core was last told of.
+///
+/// One value, so that one lock ([`Shared`]) covers everything a call reads or writes: a node
+/// serving operators and planning modules has no second lock and no lock order. Every change is
+/// still an input to [`State::apply`] (or [`State::apply_all`]): through the AD API services
+/// ([`answer`](Self::answer)), an RTC interface ([`interface`](Self::interface)) or time
+/// ([`advance_to`](Self::advance_to)).
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Host {
+    state: State,
+    rtc: Rtc,
+    /// The monotonic time the core was last told of, in milliseconds.
+    told_ms: u64,
+}
+
+impl Host {
+    /// A host of `state`, whose planning modules report through `rtc`'s interfaces, with its
+    /// clock at 0.
+    #[must_use]
+    pub const fn new(state: State, rtc: Rtc) -> Self {
+        Self {
+            state,
+            rtc,
+            told_ms: 0,
+        }
+    }
+
+    /// The core, to query.
+    #[must_use]
+    pub const fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The core, for a planner in the same process that speaks its inputs directly
+    /// ([`State::apply`], [`State::apply_all`]). Time is better told through
+    /// [`advance_to`](Self::advance_to), which keeps the host's clock and the RTC routes in step.
+    pub fn state_mut(&mut self) -> &mut State {
+        &mut self.state
+    }
+
+    /// The RTC interfaces, to query.
+    #[must_use]
+    pub const fn rtc(&self) -> &Rtc {
+        &self.rtc
+    }
+
+    /// The RTC interfaces and the core, for the calls that take both (the external API's
+    /// [`Rtc::cooperate_commands`], [`Rtc::auto_mode_with_module`]).
+    pub fn rtc_and_state(&mut self) -> (&mut Rtc, &mut State) {
+        (&mut self.rtc, &mut self.state)
+    }
+
+    /// An AD API service call, read by [`wire::Service::read`]: the typed response and whether
+    /// the state changed.
+    pub fn answer(&mut self, request: &wire::Request) -> wire::Answer<wire::Response> {
+        request.answer(&mut self.state)
+    }
+
+    /// The RTC interface named `name`, to report through.
+    ///
+    /// # Errors
+    /// As [`Rtc::interface`].
+    pub fn interface(&mut self, name: &str) -> Result<Interface<'_>, RtcError> {
+        self.rtc.interface(&mut self.state, name)
+    }
+
+    /// The RTC interface named `name`, to query.
+    ///
+    /// # Errors
+    /// As [`Rtc::view`].
+    pub fn view(&self, name: &str) -> Result<View<'_>, RtcError> {
+        self.rtc.view(&self.state, name)
+    }
+
+    /// The monotonic time the core was last told of, in milliseconds from the host's start.
+    #[must_use]
+    pub const fn told_ms(&self) -> u64 {
+        self.told_ms
+    }
+
+    /// Tells the core that the host's monotonic clock reads `now_ms`: the core's `Tick` for the
+    /// time since it was last told ([`Rtc::tick`], which also forgets the routes of forgotten
+    /// scenes). `None` if no time passed; a reading earlier than the last one is a clock that
+    /// went back, and is taken as no time passing, so that no scene ages twice.
+    ///
+    /// # Errors
+    /// The core's rejection of the tick (a tick is never rejected today).
+    pub fn advance_to(&mut self, now_ms: u64) -> Result<Option<Transition>, RtcError> {
+        let elapsed_ms = now_ms.saturating_sub(self.told_ms);
+        self.told_ms = self.told_ms.max(now_ms);
+        if elapsed_ms == 0 {
+            return Ok(None);
+        }
+        self.rtc.tick(&mut self.state, elapsed_ms).map(Some)
+    }
+}
+
+/// A [`Host`] behind one lock: `Send + Sync`, shareable through an `Arc` between a planning
+/// cycle, service callbacks and a clock.
+///
+/// Every change goes through [`State::apply`] under the lock, so each call is applied whole or
+/// (when refused) not at all, and calls from different threads are applied one after the other:
+/// none is lost, none sees another half-done (`[COOP-DEV-RACE.1]`). Reads take the same lock
+/// and so see the state between two calls, never during one.
+///
+/// ```
+/// use std::sync::Arc;
+/// use cooperation::*;
+/// use cooperation_ros::rtc::{Rtc, StatusReport};
+/// use cooperation_ros::{Host, Shared};
+///
+/// let rtc = Rtc::standard();
+/// let state = State::new(Config::new(rtc.policies(true)))?;
+/// let shared = Arc::new(Shared::new(Host::new(state, rtc)));
+/// let id = SceneId::from_u128(7);
+///
+/// // The planning thread reports a scene through its RTC interface ...
+/// let planner = Arc::clone(&shared);
+/// std::thread::spawn(move || {
+///     planner.update(|host| {
+///         let report = StatusReport::new(id, true, Phase::Waiting, 10.0, 30.0);
+///         host.interface("intersection")?.update_cooperate_status(&report).map(drop)
+///     })
+/// })
+/// .join()
+/// .expect("the planning thread ran")?;
+///
+/// // ... and a service thread reads it: required policy, no operator decision yet.
+/// assert_eq!(shared.read(|host| host.state().merged_decision(id)), Some(Decision::Deactivate));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Shared {
+    host: Mutex<Host>,
+}
+
+impl Shared {
+    /// A handle owning `host`.
+    #[must_use]
+    pub const fn new(host: Host) -> Self {
+        Self {
+            host: Mutex::new(host),
+        }
+    }
+
+    /// The lock. A panic in another thread while it held the lock cannot have left the core
+    /// half-changed: its only writers are `State::apply` and `State::apply_all`, which decide
+    /// before they write and do not panic, and the host's own bookkeeping is written after the
+    /// core. So a poisoned lock is used as it is.
+    fn lock(&self) -> MutexGuard<'_, Host> {
+        self.host.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Runs `change` with the lock held: whatever it does is a sequence of inputs, each applied
+    /// whole or not at all, and no other thread's input lands between them. Keep it short;
+    /// every other caller waits for it.
+    pub fn update<R>(&self, change: impl FnOnce(&mut Host) -> R) -> R {
+        change(&mut self.lock())
+    }
+
+    /// Runs `query` between two changes: everything it reads is from one moment. Keep it short;
+    /// every other caller waits for it.
+    pub fn read<R>(&self, query: impl FnOnce(&Host) -> R) -> R {
+        query(&self.lock())
+    }
+
+    /// The host, when no other thread can reach the handle any more.
+    #[must_use]
+    pub fn into_inner(self) -> Host {
+        self.host
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+impl From<Host> for Shared {
+    fn from(host: Host) -> Self {
+        Self::new(host)
+    }
+}

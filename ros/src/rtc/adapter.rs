@@ -1,0 +1,422 @@
+//! The RTC interfaces, answered from the core: every call converts its arguments, sends the core
+//! an input or asks it a query, and converts the answer back.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use cooperation::{
+    Decision, Distance, Input, Module, OperatorDecision, Policy, PolicySetting, Scene, SceneId,
+    Transition,
+};
+
+use super::binding::distances;
+use super::{
+    AutoModeStatus, AutoModeStatusArray, AutoModeWithModuleRequest, AutoModeWithModuleResponse,
+    Binding, Command, CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse,
+    CooperateStatus, CooperateStatusArray, RtcError,
+};
+use crate::Time;
+
+/// The policy an auto-mode switch stands for: on (scenes proceed without approval) is
+/// `optional`, off (they wait for the operator) is `required`.
+#[must_use]
+pub const fn policy_for_auto_mode(enable: bool) -> Policy {
+    if enable {
+        Policy::Optional
+    } else {
+        Policy::Required
+    }
+}
+
+/// A service's wire response together with what the core did: the transition, or the typed
+/// reason nothing changed. Upstream sends the response and logs the reason; here the caller
+/// gets both (`[COOP-DEV-SILENT-DROP.1]`).
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Reply<T> {
+    /// The response to send.
+    pub response: T,
+    /// The transition the call made, or why it made none.
+    pub result: Result<Transition, RtcError>,
+}
+
+/// The RTC interfaces of a planner, over a core [`State`](cooperation::State) that the caller owns.
+///
+/// It holds the interfaces' [`Binding`]s and, for each scene registered through one, which
+/// interface that was: routing, as upstream's separate per-interface registries route. It holds
+/// no decision, command, auto mode, phase or time: every answer is a core query and every
+/// change a core input.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Rtc {
+    bindings: Vec<Binding>,
+    /// The interface (index into `bindings`) each scene registered through. Entries for
+    /// identifiers the core no longer remembers are pruned when they could outnumber the live
+    /// and retired identifiers.
+    routes: BTreeMap<SceneId, usize>,
+}
+
+impl Default for Rtc {
+    /// [`Rtc::standard`].
+    fn default() -> Self {
+        Self::standard()
+    }
+}
+
+impl Rtc {
+    /// Interfaces with these bindings.
+    ///
+    /// # Errors
+    /// [`RtcError::DuplicateInterface`] if two bindings have the same name;
+    /// [`RtcError::NoSequence`] if a binding has no sequence.
+    pub fn new(bindings: impl IntoIterator<Item = Binding>) -> Result<Self, RtcError> {
+        let bindings: Vec<Binding> = bindings.into_iter().collect();
+        let mut names = BTreeSet::new();
+        for binding in &bindings {
+            if !names.insert(binding.name.as_str()) {
+                return Err(RtcError::DuplicateInterface {
+                    name: binding.name.clone(),
+                });
+            }
+            if binding.sequences.is_empty() {
+                return Err(RtcError::NoSequence {
+                    name: binding.name.clone(),
+                });
+            }
+        }
+        Ok(Self {
+            bindings,
+            routes: BTreeMap::new(),
+        })
+    }
+
+    /// The interfaces of [`Binding::standard`].
+    #[must_use]
+    pub fn standard() -> Self {
+        Self {
+            bindings: Binding::standard(),
+            routes: BTreeMap::new(),
+        }
+    }
+
+    /// The bindings, in the order given.
+    #[must_use]
+    pub fn bindings(&self) -> &[Binding] {
+        &self.bindings
+    }
+
+    /// Every bound core module (each sequence of each binding) with the policy upstream's
+    /// `enable_rtc` flag stands for: `false` (auto mode on) is `optional`, `true` is `required`.
+    /// For [`Config::new`](cooperation::Config::new).
+    #[must_use]
+    pub fn policies(&self, enable_rtc: bool) -> BTreeMap<Module, Policy> {
+        self.bindings
+            .iter()
+            .flat_map(Binding::modules)
+            .map(|module| (module, policy_for_auto_mode(!enable_rtc)))
+            .collect()
+    }
+
+    /// The interface named `name`, to change the core through.
+    ///
+    /// # Errors
+    /// [`RtcError::UnknownInterface`] if no binding has the name (`[COOP-DEV-INTERFACE-NAME.1]`);
+    /// [`RtcError::Unconfigured`] if the core has no policy for one of its modules.
+    pub fn interface<'a>(
+        &'a mut self,
+        state: &'a mut cooperation::State,
+        name: &str,
+    ) -> Result<Interface<'a>, RtcError> {
+        let Self { bindings, routes } = self;
+        let bindings: &'a [Binding] = bindings;
+        let (index, binding) = find(bindings, state, name)?;
+        Ok(Interface {
+            bindings,
+            binding,
+            index,
+            routes,
+            state,
+        })
+    }
+
+    /// The interface named `name`, to query.
+    ///
+    /// # Errors
+    /// As [`interface`](Self::interface).
+    pub fn view<'a>(
+        &'a self,
+        state: &'a cooperation::State,
+        name: &str,
+    ) -> Result<View<'a>, RtcError> {
+        let (index, binding) = find(&self.bindings, state, name)?;
+        Ok(View {
+            bindings: &self.bindings,
+            binding,
+            index,
+            routes: &self.routes,
+            state,
+        })
+    }
+
+    /// The binding of the interface a scene registered through, while the core remembers it.
+    #[must_use]
+    pub fn owner(&self, state: &cooperation::State, id: SceneId) -> Option<&Binding> {
+        let remembered = state.scene(id).is_some() || state.retirement(id).is_some();
+        let index = *self.routes.get(&id)?;
+        remembered.then(|| self.bindings.get(index)).flatten()
+    }
+
+    /// How many identifiers the adapter keeps a route for. Routes of identifiers the core has
+    /// forgotten are pruned, so this never exceeds what the core can remember plus one
+    /// (`Limits::max_scenes + Limits::retired_capacity + 1`): the adapter's memory is bounded
+    /// as the core's is.
+    #[must_use]
+    pub fn route_count(&self) -> usize {
+        self.routes.len()
+    }
+
+    /// Time passed: the core's `Tick`. Upstream's `removeExpiredCooperateStatus` compares each
+    /// status's stamp with a clock; here the caller says how much time passed, and the
+    /// transition lists the scenes that expired (`[COOP-DEV-EXPIRY.1]`).
+    ///
+    /// # Errors
+    /// The core's rejection (a tick is never rejected today).
+    pub fn tick(
+        &mut self,
+        state: &mut cooperation::State,
+        elapsed_ms: u64,
+    ) -> Result<Transition, RtcError> {
+        let transition = state.apply(&Input::Tick { elapsed_ms })?;
+        prune(&mut self.routes, state);
+        Ok(transition)
+    }
+
+    /// The external API's `CooperateCommands` (upstream `/api/external/set/rtc_commands`), for
+    /// scenes of every interface: commands are matched by identifier and every command is
+    /// answered (`[COOP-DEV-ROUTING.1]`). The batch applies whole or not at all: each response
+    /// is `success = true` exactly when it applied (`[COOP-DEV-BATCH.1]`).
+    pub fn cooperate_commands(
+        &mut self,
+        state: &mut cooperation::State,
+        request: &CooperateCommandsRequest,
+    ) -> Reply<CooperateCommandsResponse> {
+        apply_commands(state, request, |_, _| Ok(()))
+    }
+
+    /// The external API's `AutoModeWithModule` (upstream `/api/external/set/rtc_auto_mode`):
+    /// the auto-mode switch of every interface whose statuses carry this module type, as the
+    /// policies of their core modules, every sequence of each (`[COOP-DEV-ROUTING.1]`,
+    /// `[COOP-DEV-AUTO-MODE-KEY.1]`, `[COOP-DEV-SEQUENCE.1]`).
+    pub fn auto_mode_with_module(
+        &mut self,
+        state: &mut cooperation::State,
+        request: &AutoModeWithModuleRequest,
+    ) -> Reply<AutoModeWithModuleResponse> {
+        let result = request
+            .module
+            .module_type()
+            .map_err(|e| RtcError::from(e.within("module")))
+            .and_then(|module_type| {
+                let modules: BTreeSet<Module> = self
+                    .bindings
+                    .iter()
+                    .filter(|binding| binding.module_type == module_type)
+                    .flat_map(Binding::modules)
+                    .collect();
+                if modules.is_empty() {
+                    return Err(RtcError::NoInterface {
+                        module: module_type,
+                    });
+                }
+                set_auto_mode(state, modules, request.enable)
+            });
+        Reply {
+            response: AutoModeWithModuleResponse {
+                success: result.is_ok(),
+            },
+            result,
+        }
+    }
+
+    /// Every interface's live scenes as one array (upstream `/api/external/get/rtc_status`),
+    /// nearest start first, then by identifier (`[COOP-DEV-ORDER.1]`).
+    #[must_use]
+    pub fn cooperate_status_array(
+        &self,
+        state: &cooperation::State,
+        stamp: Time,
+    ) -> CooperateStatusArray {
+        let mut statuses: Vec<CooperateStatus> = state
+            .scenes()
+            .filter_map(|(id, scene)| {
+                let binding = self.bindings.get(*self.routes.get(&id)?)?;
+                Some(cooperate_status(binding, id, scene, state, stamp))
+            })
+            .collect();
+        statuses.sort_by(|a, b| {
+            Distance(a.start_distance)
+                .total_cmp(&Distance(b.start_distance))
+                .then(a.uuid.cmp(&b.uuid))
+        });
+        CooperateStatusArray { stamp, statuses }
+    }
+
+    /// Every interface's auto-mode status, in binding order (upstream
+    /// `/api/external/get/rtc_auto_mode`).
+    #[must_use]
+    pub fn auto_mode_status_array(
+        &self,
+        state: &cooperation::State,
+        stamp: Time,
+    ) -> AutoModeStatusArray {
+        AutoModeStatusArray {
+            stamp,
+            statuses: self
+                .bindings
+                .iter()
+                .map(|binding| auto_mode_status(binding, state))
+                .collect(),
+        }
+    }
+}
+
+/// The binding named `name`, with its index, if the core has a policy for each of its modules.
+fn find<'b>(
+    bindings: &'b [Binding],
+    state: &cooperation::State,
+    name: &str,
+) -> Result<(usize, &'b Binding), RtcError> {
+    // [COOP-DEV-INTERFACE-NAME.1]
+    let (index, binding) = bindings
+        .iter()
+        .enumerate()
+        .find(|(_, binding)| binding.name == name)
+        .ok_or_else(|| RtcError::UnknownInterface {
+            name: name.to_owned(),
+        })?;
+    if let Some(module) = binding
+        .modules()
+        .find(|module| state.policy(*module).is_none())
+    {
+        return Err(RtcError::Unconfigured {
+            name: binding.name.clone(),
+            module,
+        });
+    }
+    Ok((index, binding))
+}
+
+/// Forgets the routes of identifiers the core no longer remembers, once they could outnumber
+/// the live and retired identifiers; so the routes never hold more than the core can remember
+/// plus one.
+fn prune(routes: &mut BTreeMap<SceneId, usize>, state: &cooperation::State) {
+    let remembered = state
+        .scene_count()
+        .saturating_add(state.limits().retired_capacity);
+    if routes.len() > remembered {
+        routes.retain(|id, _| state.scene(*id).is_some() || state.retirement(*id).is_some());
+    }
+}
+
+/// Parses a command request, checks each command's scene with `check`, and sends the batch to
+/// the core.
+fn apply_commands(
+    state: &mut cooperation::State,
+    request: &CooperateCommandsRequest,
+    check: impl Fn(&cooperation::State, SceneId) -> Result<(), RtcError>,
+) -> Reply<CooperateCommandsResponse> {
+    let result = request
+        .parse()
+        .map_err(RtcError::from)
+        .and_then(|commands| {
+            for command in &commands {
+                check(state, command.id)?;
+            }
+            // [COOP-DEV-BATCH.1] [COOP-DEV-DUPLICATE.1] [COOP-DEV-STORED-COMMANDS.1]
+            Ok(state.apply(&Input::SetCommands { commands })?)
+        });
+    let success = result.is_ok();
+    let responses = request
+        .commands
+        .iter()
+        .map(|command| CooperateResponse {
+            uuid: command.uuid,
+            module: command.module,
+            success,
+        })
+        .collect();
+    Reply {
+        response: CooperateCommandsResponse { responses },
+        result,
+    }
+}
+
+/// Sets the policies of `modules` to what the auto-mode switch stands for.
+fn set_auto_mode(
+    state: &mut cooperation::State,
+    modules: BTreeSet<Module>,
+    enable: bool,
+) -> Result<Transition, RtcError> {
+    let policies = modules
+        .into_iter()
+        .map(|module| PolicySetting {
+            module,
+            policy: policy_for_auto_mode(enable),
+        })
+        .collect();
+    // [COOP-DEV-POLICY-CLOBBER.1] [COOP-DEV-AUTO-MODE-KEY.1]
+    Ok(state.apply(&Input::SetPolicies { policies })?)
+}
+
+/// Upstream's `auto_mode` of a scene: it proceeds on the module's judgment, because the operator
+/// chose autonomous or has not decided under an optional policy. `requested` is a separate field,
+/// as upstream.
+fn auto_mode(scene: &Scene, state: &cooperation::State) -> bool {
+    match scene.operator_decision() {
+        OperatorDecision::Autonomous => true,
+        OperatorDecision::Undecided => state.policy(scene.module()) == Some(Policy::Optional),
+        OperatorDecision::Activate | OperatorDecision::Deactivate => false,
+    }
+}
+
+/// A live scene as an RTC status. The stamp is the owner's last report: `stamp` less the scene's
+/// age.
+fn cooperate_status(
+    binding: &Binding,
+    id: SceneId,
+    scene: &Scene,
+    state: &cooperation::State,
+    stamp: Time,
+) -> CooperateStatus {
+    let (start_distance, finish_distance) = distances(scene.geometry());
+    // [COOP-DEV-NONE.1]: an undecided (or autonomous) scene reports DEACTIVATE, upstream's
+    // initial command status.
+    let command = match scene.operator_decision() {
+        OperatorDecision::Activate => Decision::Activate,
+        _ => Decision::Deactivate,
+    };
+    CooperateStatus {
+        stamp: stamp.before_ms(scene.age_ms()),
+        uuid: id.into(),
+        module: binding.module_type.into(),
+        safe: scene.module_decision() == Decision::Activate,
+        requested: scene.is_requested(),
+        command_status: Command::from(command),
+        state: scene.phase().into(),
+        auto_mode: auto_mode(scene, state),
+        start_distance,
+        finish_distance,
+    }
+}
+
+/// An interface's auto-mode status: on when every one of its modules' policies is optional, so
+/// that each of its scenes may proceed without the operator (`[COOP-DEV-SEQUENCE.1]`).
+fn auto_mode_status(binding: &Binding, state: &cooperation::State) -> AutoModeStatus {
+    AutoModeStatus {
+        module: binding.module_type.into(),
+        is_auto_mode: binding
+            .modules()
+            .all(|module| state.policy(module) == Some(Policy::Optional)),
+    }
+}
+
+mod interface;
+
+pub use interface::{Interface, View};

@@ -1,0 +1,48 @@
+// The module's documentation is `docs/settings.md`, attached where the module is declared.
+
+mod error;
+mod reader;
+mod render;
+mod scalar;
+
+pub use error::{Expected, Found, SettingsError, SettingsErrorKind, Unsupported};
+
+use cooperation::{Config, Limits};
+
+/// The largest limits [`parse`] accepts: each as large as its type holds. [`parse_within`]
+/// takes smaller ones.
+pub const NO_MAXIMUM: Limits = Limits {
+    ttl_ms: u64::MAX,
+    max_scenes: usize::MAX,
+    retired_capacity: usize::MAX,
+    max_batch: usize::MAX,
+};
+
+/// Reads a settings file's text into a configuration that [`State::new`](cooperation::State::new)
+/// accepts.
+///
+/// # Errors
+/// The first thing wrong, as a [`SettingsError`] naming its line, column and key.
+pub fn parse(text: &str) -> Result<Config, SettingsError> {
+    parse_within(text, &NO_MAXIMUM)
+}
+
+/// [`parse`], refusing any limit above the same limit of `max` (with
+/// [`SettingsErrorKind::AboveMaximum`]): for a program that bounds its memory more tightly
+/// than the core does.
+///
+/// # Errors
+/// As [`parse`], and a limit above `max`'s.
+pub fn parse_within(text: &str, max: &Limits) -> Result<Config, SettingsError> {
+    // A file may start with a byte-order mark.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    reader::Reader::new(text, max).read()
+}
+
+/// Writes `config` as a settings file that [`parse`] reads back as `config`, when `config`
+/// has at least one module and limits `State::new` accepts. The node key is `/**` and every
+/// limit is written out.
+#[must_use]
+pub fn to_yaml(config: &Config) -> String {
+    render::to_yaml(config)
+}

@@ -1,0 +1,564 @@
+//! The reader: YAML events, read in the settings' layout, into a configuration.
+//!
+//! It follows the layout as it reads, so it descends only into maps the layout has: a key the
+//! layout does not have is refused before its value is read, so recursion is never deeper than
+//! the layout's six maps, whatever the text.
+
+use std::collections::btree_map::Entry;
+use std::collections::BTreeMap;
+
+use saphyr_parser::{Event, Parser, ScalarStyle, ScanError, StrInput};
+
+use super::scalar::{kind, unsigned_integer};
+use super::{Expected, Found, SettingsError, SettingsErrorKind, Unsupported};
+use cooperation::{Behavior, Config, Limits, Module, Policy, Sequence, State};
+
+/// The only key of a node's map.
+const ROS_PARAMETERS: &str = "ros__parameters";
+
+/// The keys under `ros__parameters`, `cooperation` and `limits`.
+const COOPERATION: &[&str] = &["cooperation"];
+const SECTIONS: &[&str] = &["policies", "limits"];
+const LIMITS: &[&str] = &["ttl_ms", "max_scenes", "retired_capacity", "max_batch"];
+
+/// A place in the text: line and column, both from 1.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+struct Mark {
+    line: usize,
+    column: usize,
+}
+
+impl Mark {
+    /// The place `line` (from 1) and `col` (from 0) name, no further than `end`: the parser
+    /// places the end of a text without a final line break on the line after it.
+    fn at(line: usize, col: usize, end: Self) -> Self {
+        let mark = Self {
+            line,
+            column: col.saturating_add(1),
+        };
+        if (mark.line, mark.column) > (end.line, end.column) {
+            end
+        } else {
+            mark
+        }
+    }
+
+    /// Where `text` ends: after its last character, line breaks counted as YAML counts them
+    /// (`\r\n`, `\r` or `\n`).
+    fn end(text: &str) -> Self {
+        let mut end = Self { line: 1, column: 1 };
+        let mut chars = text.chars().peekable();
+        while let Some(c) = chars.next() {
+            if c == '\r' && chars.peek() == Some(&'\n') {
+                continue;
+            }
+            if matches!(c, '\r' | '\n') {
+                end = Self {
+                    line: end.line.saturating_add(1),
+                    column: 1,
+                };
+            } else {
+                end.column = end.column.saturating_add(1);
+            }
+        }
+        end
+    }
+}
+
+/// A limit, by its key.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Limit {
+    TtlMs,
+    MaxScenes,
+    RetiredCapacity,
+    MaxBatch,
+}
+
+impl Limit {
+    const ALL: [Self; 4] = [
+        Self::TtlMs,
+        Self::MaxScenes,
+        Self::RetiredCapacity,
+        Self::MaxBatch,
+    ];
+
+    const fn key(self) -> &'static str {
+        match self {
+            Self::TtlMs => "ttl_ms",
+            Self::MaxScenes => "max_scenes",
+            Self::RetiredCapacity => "retired_capacity",
+            Self::MaxBatch => "max_batch",
+        }
+    }
+
+    /// This limit of `limits`, as a whole number.
+    fn get(self, limits: &Limits) -> u64 {
+        let value = match self {
+            Self::TtlMs => return limits.ttl_ms,
+            Self::MaxScenes => limits.max_scenes,
+            Self::RetiredCapacity => limits.retired_capacity,
+            Self::MaxBatch => limits.max_batch,
+        };
+        u64::try_from(value).unwrap_or(u64::MAX)
+    }
+
+    /// `limits` with this limit set to `value`, or `None` if its type cannot hold it.
+    fn set(self, mut limits: Limits, value: u64) -> Option<Limits> {
+        let count = usize::try_from(value).ok();
+        match self {
+            Self::TtlMs => limits.ttl_ms = value,
+            Self::MaxScenes => limits.max_scenes = count?,
+            Self::RetiredCapacity => limits.retired_capacity = count?,
+            Self::MaxBatch => limits.max_batch = count?,
+        }
+        Some(limits)
+    }
+
+    /// The largest value this limit's type holds.
+    fn type_max(self) -> u64 {
+        match self {
+            Self::TtlMs => u64::MAX,
+            _ => u64::try_from(usize::MAX).unwrap_or(u64::MAX),
+        }
+    }
+}
+
+/// Where in the layout a key leads.
+#[derive(Clone, PartialEq, Eq, Debug)]
+enum Place {
+    /// `ros__parameters`: the parameters.
+    Parameters,
+    /// `cooperation`.
+    Cooperation,
+    /// `cooperation.policies`: behaviours.
+    Policies,
+    /// A behaviour: its policy, or its sequences.
+    Behavior(String),
+    /// A behaviour's sequence: its policy.
+    Sequence(String, String),
+    /// `cooperation.limits`.
+    Limits,
+    /// One limit.
+    Limit(Limit),
+}
+
+impl Place {
+    /// What a value here must be.
+    const fn expected(&self) -> Expected {
+        match self {
+            Self::Parameters | Self::Cooperation | Self::Policies | Self::Limits => Expected::Map,
+            Self::Behavior(_) => Expected::PolicyOrSequences,
+            Self::Sequence(..) => Expected::Policy,
+            Self::Limit(_) => Expected::Integer,
+        }
+    }
+
+    /// The place the key `part` leads to from here.
+    fn descend(&self, part: &str) -> Result<Self, SettingsErrorKind> {
+        let unknown = |expected| SettingsErrorKind::UnknownKey {
+            given: part.to_owned(),
+            expected,
+        };
+        match self {
+            Self::Parameters if part == "cooperation" => Ok(Self::Cooperation),
+            Self::Parameters => Err(unknown(COOPERATION)),
+            Self::Cooperation if part == "policies" => Ok(Self::Policies),
+            Self::Cooperation if part == "limits" => Ok(Self::Limits),
+            Self::Cooperation => Err(unknown(SECTIONS)),
+            Self::Policies => match part.parse::<Behavior>() {
+                Ok(_) => Ok(Self::Behavior(part.to_owned())),
+                Err(name) => Err(SettingsErrorKind::InvalidBehavior(name)),
+            },
+            Self::Behavior(behavior) => match part.parse::<Sequence>() {
+                Ok(_) => Ok(Self::Sequence(behavior.clone(), part.to_owned())),
+                Err(name) => Err(SettingsErrorKind::InvalidSequence(name)),
+            },
+            Self::Limits => Limit::ALL
+                .into_iter()
+                .find(|limit| limit.key() == part)
+                .map(Self::Limit)
+                .ok_or_else(|| unknown(LIMITS)),
+            // A key below a value: the value would be a map.
+            Self::Sequence(..) | Self::Limit(_) => Err(SettingsErrorKind::WrongType {
+                expected: self.expected(),
+                found: Found::Map,
+            }),
+        }
+    }
+
+    /// Whether an empty map here names no module where one is needed.
+    const fn lists_modules(&self) -> bool {
+        matches!(self, Self::Policies | Self::Behavior(_))
+    }
+}
+
+/// The reader's state: the events, the key path so far, and what was read.
+pub(super) struct Reader<'t> {
+    events: Parser<'t, StrInput<'t>>,
+    /// The key path down to where the reader is.
+    path: Vec<String>,
+    /// The node key, once read.
+    node: String,
+    /// Every module's policy, and where it was set.
+    policies: BTreeMap<Module, (Policy, Mark)>,
+    /// The limits so far.
+    limits: Limits,
+    /// Where each limit was set, by key.
+    limits_set: BTreeMap<&'static str, Mark>,
+    /// The most the caller allows.
+    max: Limits,
+    /// Where the text ends.
+    end: Mark,
+}
+
+type Read<T> = Result<T, SettingsError>;
+
+impl<'t> Reader<'t> {
+    pub(super) fn new(text: &'t str, max: &Limits) -> Self {
+        Self {
+            events: Parser::new_from_str(text),
+            path: Vec::new(),
+            node: String::new(),
+            policies: BTreeMap::new(),
+            limits: Limits::default(),
+            limits_set: BTreeMap::new(),
+            max: *max,
+            end: Mark::end(text),
+        }
+    }
+
+    /// An error at `mark`, at the current key path.
+    fn error(&self, mark: Mark, kind: SettingsErrorKind) -> SettingsError {
+        SettingsError {
+            line: mark.line,
+            column: mark.column,
+            key: self.path.join("."),
+            kind,
+        }
+    }
+
+    /// The next event. A syntax error is at its own place.
+    fn next(&mut self) -> Read<(Event<'t>, Mark)> {
+        match self.events.next_event() {
+            Some(Ok((event, span))) => {
+                let start = span.start;
+                Ok((event, Mark::at(start.line(), start.col(), self.end)))
+            }
+            Some(Err(error)) => Err(self.syntax(&error)),
+            // The parser ends every stream with `StreamEnd`, after which nothing is read.
+            None => Err(self.error(
+                self.end,
+                SettingsErrorKind::Syntax {
+                    message: "the text ends early".to_owned(),
+                },
+            )),
+        }
+    }
+
+    fn syntax(&self, error: &ScanError) -> SettingsError {
+        let marker = error.marker();
+        let mark = Mark::at(marker.line(), marker.col(), self.end);
+        self.error(
+            mark,
+            SettingsErrorKind::Syntax {
+                message: error.info().to_owned(),
+            },
+        )
+    }
+
+    /// The next node's event, refusing anchors, tags and aliases.
+    fn node(&mut self) -> Read<(Event<'t>, Mark)> {
+        let (event, mark) = self.next()?;
+        let (anchor, tagged) = match &event {
+            Event::Scalar(_, _, anchor, tag)
+            | Event::MappingStart(anchor, tag)
+            | Event::SequenceStart(anchor, tag) => (*anchor, tag.is_some()),
+            // Never reached: the anchor an alias names was refused before it.
+            Event::Alias(_) => {
+                return Err(self.error(mark, SettingsErrorKind::Unsupported(Unsupported::Anchor)))
+            }
+            _ => (0, false),
+        };
+        if anchor != 0 {
+            return Err(self.error(mark, SettingsErrorKind::Unsupported(Unsupported::Anchor)));
+        }
+        if tagged {
+            return Err(self.error(mark, SettingsErrorKind::Unsupported(Unsupported::Tag)));
+        }
+        Ok((event, mark))
+    }
+
+    /// The next key of a map, or `None` at its end. `seen` holds the map's keys so far.
+    fn key(&mut self, seen: &mut BTreeMap<String, Mark>) -> Read<Option<(String, Mark)>> {
+        let (event, mark) = self.node()?;
+        let key = match event {
+            Event::MappingEnd => return Ok(None),
+            Event::Scalar(text, ..) => text.into_owned(),
+            _ => {
+                return Err(self.error(
+                    mark,
+                    SettingsErrorKind::Unsupported(Unsupported::ComplexKey),
+                ))
+            }
+        };
+        match seen.entry(key.clone()) {
+            Entry::Occupied(first) => {
+                let first_line = first.get().line;
+                self.path.push(key);
+                Err(self.error(mark, SettingsErrorKind::DuplicateKey { first_line }))
+            }
+            Entry::Vacant(entry) => {
+                entry.insert(mark);
+                Ok(Some((key, mark)))
+            }
+        }
+    }
+
+    /// Reads the whole text.
+    pub(super) fn read(mut self) -> Read<Config> {
+        // `StreamStart`, then a document or the end.
+        self.next()?;
+        let (event, mark) = self.next()?;
+        if event == Event::StreamEnd {
+            return Err(self.error(mark, SettingsErrorKind::NoNode));
+        }
+        let (event, mark) = self.node()?;
+        let parameters = match event {
+            Event::MappingStart(..) => self.top(mark)?,
+            Event::Scalar(text, style, ..) if kind(&text, style) == Found::Null => {
+                return Err(self.error(mark, SettingsErrorKind::NoNode))
+            }
+            other => return Err(self.wrong_type(mark, Expected::Map, &other)),
+        };
+        // `DocumentEnd`, then the end: a second document is refused.
+        self.next()?;
+        let (event, mark) = self.next()?;
+        if event != Event::StreamEnd {
+            return Err(self.error(
+                mark,
+                SettingsErrorKind::Unsupported(Unsupported::SecondDocument),
+            ));
+        }
+        self.finish(parameters)
+    }
+
+    /// The top-level map, with one node key; returns where its `ros__parameters` key is.
+    fn top(&mut self, start: Mark) -> Read<Mark> {
+        let mut seen = BTreeMap::new();
+        let Some((node, mark)) = self.key(&mut seen)? else {
+            return Err(self.error(start, SettingsErrorKind::NoNode));
+        };
+        self.path.push(node.clone());
+        if node == ROS_PARAMETERS {
+            return Err(self.error(mark, SettingsErrorKind::NoNodeKey));
+        }
+        let valid = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '/' | '*');
+        if node.is_empty() || !node.chars().all(valid) {
+            return Err(self.error(mark, SettingsErrorKind::BadNodeKey));
+        }
+        self.node = node;
+        let parameters = self.node_map(mark)?;
+        self.path.clear();
+        if let Some((second, mark)) = self.key(&mut seen)? {
+            self.path.push(second);
+            return Err(self.error(mark, SettingsErrorKind::SecondNode));
+        }
+        Ok(parameters)
+    }
+
+    /// A node's map, holding `ros__parameters` only; returns where that key is.
+    fn node_map(&mut self, node: Mark) -> Read<Mark> {
+        let (event, mark) = self.node()?;
+        if !matches!(event, Event::MappingStart(..)) {
+            return Err(self.wrong_type(mark, Expected::Map, &event));
+        }
+        let mut seen = BTreeMap::new();
+        let mut parameters = None;
+        while let Some((key, mark)) = self.key(&mut seen)? {
+            self.path.push(key.clone());
+            if key != ROS_PARAMETERS {
+                let kind = SettingsErrorKind::UnknownKey {
+                    given: key,
+                    expected: &[ROS_PARAMETERS],
+                };
+                return Err(self.error(mark, kind));
+            }
+            self.value(&Place::Parameters)?;
+            self.path.pop();
+            parameters = Some(mark);
+        }
+        parameters.ok_or_else(|| self.error(node, SettingsErrorKind::NoParameters))
+    }
+
+    /// The value at `place`, the key path ending at its key.
+    fn value(&mut self, place: &Place) -> Read<()> {
+        let (event, mark) = self.node()?;
+        match (&event, place) {
+            (Event::MappingStart(..), Place::Sequence(..) | Place::Limit(_)) => {
+                Err(self.wrong_type(mark, place.expected(), &event))
+            }
+            (Event::MappingStart(..), _) => self.map(place, mark),
+            (Event::Scalar(text, style, ..), Place::Behavior(behavior)) => {
+                let policy = self.policy(mark, text, *style, place)?;
+                self.set_policy(behavior, None, policy, mark)
+            }
+            (Event::Scalar(text, style, ..), Place::Sequence(behavior, sequence)) => {
+                let policy = self.policy(mark, text, *style, place)?;
+                self.set_policy(behavior, Some(sequence), policy, mark)
+            }
+            (Event::Scalar(text, style, ..), Place::Limit(limit)) => {
+                self.set_limit(*limit, mark, text, *style)
+            }
+            _ => Err(self.wrong_type(mark, place.expected(), &event)),
+        }
+    }
+
+    /// A map at `place`, which starts at `start`.
+    fn map(&mut self, place: &Place, start: Mark) -> Read<()> {
+        let mut seen = BTreeMap::new();
+        let depth = self.path.len();
+        while let Some((key, mark)) = self.key(&mut seen)? {
+            // A dotted key is the nested keys it names, as in ROS 2.
+            let mut here = place.clone();
+            for part in key.split('.') {
+                self.path.push(part.to_owned());
+                if part.is_empty() {
+                    return Err(self.error(mark, SettingsErrorKind::EmptyName));
+                }
+                here = here.descend(part).map_err(|kind| self.error(mark, kind))?;
+            }
+            self.value(&here)?;
+            self.path.truncate(depth);
+        }
+        if seen.is_empty() && place.lists_modules() {
+            return Err(self.error(start, SettingsErrorKind::EmptyMap));
+        }
+        Ok(())
+    }
+
+    fn wrong_type(&self, mark: Mark, expected: Expected, event: &Event<'_>) -> SettingsError {
+        let found = match event {
+            Event::Scalar(text, style, ..) => kind(text, *style),
+            Event::SequenceStart(..) => Found::List,
+            _ => Found::Map,
+        };
+        self.error(mark, SettingsErrorKind::WrongType { expected, found })
+    }
+
+    /// A policy, from a string, for a key at `place`.
+    fn policy(&self, mark: Mark, text: &str, style: ScalarStyle, place: &Place) -> Read<Policy> {
+        match kind(text, style) {
+            Found::String => Policy::ALL
+                .into_iter()
+                .find(|policy| policy.as_str() == text)
+                .ok_or_else(|| {
+                    self.error(
+                        mark,
+                        SettingsErrorKind::UnknownPolicy {
+                            given: text.to_owned(),
+                        },
+                    )
+                }),
+            found => Err(self.error(
+                mark,
+                SettingsErrorKind::WrongType {
+                    expected: place.expected(),
+                    found,
+                },
+            )),
+        }
+    }
+
+    /// Sets a module's policy: a behaviour's alone, or one of its sequences'.
+    fn set_policy(
+        &mut self,
+        behavior: &str,
+        sequence: Option<&str>,
+        policy: Policy,
+        mark: Mark,
+    ) -> Read<()> {
+        // The keys were parsed when read, and are parsed again here, as a place holds strings.
+        let behavior = behavior
+            .parse::<Behavior>()
+            .map_err(|name| self.error(mark, SettingsErrorKind::InvalidBehavior(name)))?;
+        let module = match sequence {
+            None => Module::new(behavior),
+            Some(sequence) => {
+                let sequence = sequence
+                    .parse::<Sequence>()
+                    .map_err(|name| self.error(mark, SettingsErrorKind::InvalidSequence(name)))?;
+                Module::with_sequence(behavior, sequence)
+            }
+        };
+        match self.policies.entry(module) {
+            Entry::Occupied(first) => {
+                let first_line = first.get().1.line;
+                Err(self.error(mark, SettingsErrorKind::Twice { first_line }))
+            }
+            Entry::Vacant(entry) => {
+                entry.insert((policy, mark));
+                Ok(())
+            }
+        }
+    }
+
+    fn set_limit(&mut self, limit: Limit, mark: Mark, text: &str, style: ScalarStyle) -> Read<()> {
+        let found = kind(text, style);
+        if found != Found::Integer {
+            let expected = Expected::Integer;
+            return Err(self.error(mark, SettingsErrorKind::WrongType { expected, found }));
+        }
+        let out_of_range = || SettingsErrorKind::OutOfRange {
+            given: text.to_owned(),
+            max: limit.type_max(),
+        };
+        let value = unsigned_integer(text).ok_or_else(|| self.error(mark, out_of_range()))?;
+        let limits = limit
+            .set(self.limits, value)
+            .ok_or_else(|| self.error(mark, out_of_range()))?;
+        if let Some(first) = self.limits_set.get(limit.key()) {
+            let first_line = first.line;
+            return Err(self.error(mark, SettingsErrorKind::Twice { first_line }));
+        }
+        let max = limit.get(&self.max);
+        if value > max {
+            let kind = SettingsErrorKind::AboveMaximum { given: value, max };
+            return Err(self.error(mark, kind));
+        }
+        // What the core refuses, found where the limit is written: this limit with the
+        // defaults for the others.
+        let alone = limit.set(Limits::default(), value).unwrap_or_default();
+        State::new(Config::new([]).with_limits(alone))
+            .map_err(|error| self.error(mark, SettingsErrorKind::Refused(error)))?;
+        self.limits_set.insert(limit.key(), mark);
+        self.limits = limits;
+        Ok(())
+    }
+
+    /// The configuration, once the text is read; `parameters` is where `ros__parameters` is.
+    fn finish(mut self, parameters: Mark) -> Read<Config> {
+        self.path = vec![core::mem::take(&mut self.node), ROS_PARAMETERS.to_owned()];
+        if self.policies.is_empty() {
+            return Err(self.error(parameters, SettingsErrorKind::NoPolicies));
+        }
+        let config = Config::new(
+            core::mem::take(&mut self.policies)
+                .into_iter()
+                .map(|(module, (policy, _))| (module, policy)),
+        )
+        .with_limits(self.limits);
+        // Each limit passed on its own; the core sees them together too.
+        let last = self
+            .limits_set
+            .values()
+            .max_by_key(|mark| mark.line)
+            .copied();
+        if let Err(error) = State::new(config.clone()) {
+            return Err(self.error(
+                last.unwrap_or(parameters),
+                SettingsErrorKind::Refused(error),
+            ));
+        }
+        Ok(config)
+    }
+}
