@@ -7,7 +7,7 @@
 
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use cooperation::wire::Time;
+use cooperation_ros::Time;
 
 /// Monotonic time since the node started, and header stamps derived from it.
 #[derive(Clone, Copy, Debug)]

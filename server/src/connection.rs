@@ -19,7 +19,7 @@ use axum::extract::ws::{CloseFrame, Message, Utf8Bytes, WebSocket};
 use futures_util::{SinkExt, StreamExt};
 use tokio::sync::{mpsc, watch};
 
-use crate::node::{Node, Topic};
+use crate::node::{Node, Publication, Topic};
 use crate::rosbridge::{self, Action};
 
 /// How much one connection may hold and take.
@@ -115,30 +115,33 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
     }
 }
 
-/// A text frame's answer, worked out on the blocking pool: it takes the core's lock and may
-/// wait for a publication, which must not hold up the tasks of other connections.
+/// A text frame's answer, worked out on the blocking pool (it reads the frame and takes the
+/// core's lock, which must not hold up the tasks of other connections); an answer to a call
+/// that changed the core waits for the publication that shows the change.
 async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize) -> Vec<Action> {
-    let node = Arc::clone(node);
+    let worker = Arc::clone(node);
     let work = move || {
         if text.len() > max {
             let msg = format!(
                 "a frame of {} bytes, more than the {max} this node reads",
                 text.len()
             );
-            rosbridge::refuse(text.as_str(), &msg)
+            (rosbridge::refuse(text.as_str(), &msg), None)
         } else {
-            rosbridge::handle(&node, text.as_str())
+            rosbridge::handle(&worker, text.as_str())
         }
     };
-    tokio::task::spawn_blocking(work)
+    let (actions, revision) = tokio::task::spawn_blocking(work)
         .await
         .unwrap_or_else(|error| {
             tracing::error!(%error, "a request's handling failed");
-            vec![Action::Send(rosbridge::error_status(
-                "the node failed to answer this request",
-                None,
-            ))]
-        })
+            let failed = rosbridge::error_status("the node failed to answer this request", None);
+            (vec![Action::Send(failed)], None)
+        });
+    if let Some(revision) = revision {
+        node.published(revision).await;
+    }
+    actions
 }
 
 async fn write<S>(mut sink: S, mut queue: mpsc::Receiver<Out>, node: Arc<Node>, limits: Limits)
@@ -168,11 +171,11 @@ where
                 None => break,
             },
             changed = velocity.changed(), if to_velocity => match changed {
-                Ok(()) => Message::Text(velocity.borrow_and_update().clone()),
+                Ok(()) => Message::Text(velocity.borrow_and_update().frame.clone()),
                 Err(_) => break,
             },
             changed = steering.changed(), if to_steering => match changed {
-                Ok(()) => Message::Text(steering.borrow_and_update().clone()),
+                Ok(()) => Message::Text(steering.borrow_and_update().frame.clone()),
                 Err(_) => break,
             },
             _ = keepalive.tick() => Message::Ping(axum::body::Bytes::new()),
@@ -205,8 +208,8 @@ fn subscription(
     on: bool,
     to_velocity: &mut bool,
     to_steering: &mut bool,
-    velocity: &mut watch::Receiver<Utf8Bytes>,
-    steering: &mut watch::Receiver<Utf8Bytes>,
+    velocity: &mut watch::Receiver<Publication>,
+    steering: &mut watch::Receiver<Publication>,
 ) {
     let (flag, receiver) = match topic {
         Topic::Velocity => (to_velocity, velocity),

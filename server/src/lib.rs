@@ -2,9 +2,9 @@
 //! operator panel in a browser.
 //!
 //! One port serves a WebSocket for rosbridge clients (operators and planning modules) and,
-//! over plain HTTP, the operator panel. The verified core sits behind
-//! [`cooperation::Shared`] in a [`Node`]; the node's clock ([`clock`]) is the only place time
-//! is read. `docs/server.md` describes the protocol, the planning modules' service and the
+//! over plain HTTP, the operator panel. The verified core and its RTC interfaces sit behind
+//! one lock ([`cooperation_ros::Shared`]) in a [`Node`]; the node's clock ([`clock`]) is the
+//! only place time is read. `docs/server.md` describes the protocol, the planning modules' service and the
 //! limits.
 
 #![deny(

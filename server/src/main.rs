@@ -58,7 +58,7 @@ async fn run(args: Args) -> Result<(), String> {
     }
     let text = std::fs::read_to_string(&args.settings)
         .map_err(|error| format!("{}: {error}", args.settings.display()))?;
-    let config = cooperation::settings::parse(&text)
+    let config = cooperation_ros::settings::parse(&text)
         .map_err(|error| format!("{}: {error}", args.settings.display()))?;
     let node = Node::new(config).map_err(|error| error.to_string())?;
     let publish_every = Duration::try_from_secs_f64(1.0 / args.rate)

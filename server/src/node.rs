@@ -1,22 +1,25 @@
-//! The node: the verified core behind [`Shared`](cooperation::Shared), the RTC interfaces beside it, the clock that
-//! ticks it, and the two factor streams.
+//! The node: the verified core with its RTC interfaces behind one lock
+//! ([`cooperation_ros::Shared`]), the clock that ticks it, and the two factor streams.
 //!
-//! Every service call, module sync and tick is one short critical section on the core; the
-//! streams are serialized once per publication and handed to every subscriber as the same
-//! bytes.
+//! Every service call, module sync and tick is one short critical section on that lock, and
+//! nothing else is locked: the streams are read under it, serialized outside it, once per
+//! publication, and handed to every subscriber as the same bytes. Each publication carries the
+//! revision of the state it shows (changes are counted under the lock), so a stream never goes
+//! back to an older state, whatever order publications finish in, and a caller whose call
+//! changed the state can wait for the publication that shows it.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use axum::extract::ws::Utf8Bytes;
-use cooperation::rtc::Rtc;
-use cooperation::wire::{self, Service};
 use cooperation::{Config, ConfigError, State};
+use cooperation_ros::rtc::Rtc;
+use cooperation_ros::wire::{self, Request, Response};
+use cooperation_ros::{Host, Shared};
 use serde::Serialize;
 use tokio::sync::{watch, Notify};
 
 use crate::clock::Clock;
-use crate::sync;
+use crate::sync::{self, SyncRequest, SyncResponse};
 
 /// The two topics the node publishes.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -56,32 +59,28 @@ impl Topic {
     }
 }
 
+/// One publication of a topic: the `publish` frame, and the revision of the state it shows.
+#[derive(Clone, Debug, Default)]
+pub struct Publication {
+    /// How many changes the state it shows had had.
+    pub revision: u64,
+    /// The rosbridge `publish` frame.
+    pub frame: Utf8Bytes,
+}
+
 /// What the node serves, and the core it serves it from.
 #[derive(Debug)]
 pub struct Node {
-    shared: cooperation::Shared,
-    /// The RTC interfaces' routing. Locked before the core, never after it.
-    rtc: Mutex<Rtc>,
+    /// The one lock: the core, the RTC interfaces' routing, and the time the core was told.
+    shared: Shared,
     clock: Clock,
-    /// Counts the changes answered to callers that wait for their publication
-    /// ([`call`](Self::call)), from 1.
-    changes: AtomicU64,
-    /// Held while a publication is read and sent, so publications leave in the order their
-    /// states were read: a stream never goes back to an older state. It holds the number of
-    /// changes the newest publication is known to show.
-    publishing: Mutex<u64>,
-    velocity: watch::Sender<Utf8Bytes>,
-    steering: watch::Sender<Utf8Bytes>,
-    /// Woken by a change that should be published soon (module syncs, expiries).
+    /// Counts the changes made to the core, from 1. Written and read only with the lock held,
+    /// so its value, read under the lock, is the revision of the state the lock guards.
+    revision: AtomicU64,
+    velocity: watch::Sender<Publication>,
+    steering: watch::Sender<Publication>,
+    /// Woken by a change that should be published soon.
     changed: Notify,
-    /// The monotonic time of the last tick, in milliseconds.
-    ticked_ms: Mutex<u64>,
-}
-
-/// A lock whose holder panicked is used as it is: the core's own lock explains why the core
-/// cannot be half-changed, and the node's other locks guard no invariant a panic could break.
-fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
-    mutex.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// A `publish` frame of rosbridge.
@@ -101,6 +100,19 @@ fn publish_frame<M: Serialize>(topic: Topic, msg: &M) -> Utf8Bytes {
     Utf8Bytes::from(serde_json::to_string(&frame).unwrap_or_default())
 }
 
+/// Replaces the topic's publication with one of the same state or a newer one (a periodic
+/// publication of an unchanged state goes out with its new stamp); one of an older state, read
+/// before the current one was, is dropped.
+fn send_newer(topic: &watch::Sender<Publication>, publication: Publication) {
+    topic.send_if_modified(|current| {
+        let newer = publication.revision >= current.revision;
+        if newer {
+            *current = publication;
+        }
+        newer
+    });
+}
+
 impl Node {
     /// A node over a new core with `config`, and the standard RTC interfaces.
     ///
@@ -108,26 +120,23 @@ impl Node {
     /// The core's refusal of the configuration.
     pub fn new(config: Config) -> Result<Self, ConfigError> {
         let state = State::new(config)?;
-        let (velocity, _) = watch::channel(Utf8Bytes::default());
-        let (steering, _) = watch::channel(Utf8Bytes::default());
+        let (velocity, _) = watch::channel(Publication::default());
+        let (steering, _) = watch::channel(Publication::default());
         let node = Self {
-            shared: cooperation::Shared::new(state),
-            rtc: Mutex::new(Rtc::standard()),
+            shared: Shared::new(Host::new(state, Rtc::standard())),
             clock: Clock::start(),
-            changes: AtomicU64::new(0),
-            publishing: Mutex::new(0),
+            revision: AtomicU64::new(0),
             velocity,
             steering,
             changed: Notify::new(),
-            ticked_ms: Mutex::new(0),
         };
         node.publish();
         Ok(node)
     }
 
-    /// The core, for reading.
+    /// The core and its RTC interfaces, behind the node's one lock.
     #[must_use]
-    pub const fn shared(&self) -> &cooperation::Shared {
+    pub const fn shared(&self) -> &Shared {
         &self.shared
     }
 
@@ -139,33 +148,43 @@ impl Node {
 
     /// A receiver of `topic`'s publications: always the newest, earlier ones skipped.
     #[must_use]
-    pub fn subscribe(&self, topic: Topic) -> watch::Receiver<Utf8Bytes> {
+    pub fn subscribe(&self, topic: Topic) -> watch::Receiver<Publication> {
         match topic {
             Topic::Velocity => self.velocity.subscribe(),
             Topic::Steering => self.steering.subscribe(),
         }
     }
 
-    /// Reads both streams from the core as it is now and publishes them.
-    pub fn publish(&self) {
-        self.publish_holding(&mut lock(&self.publishing));
+    /// Counts a change, with the lock held: the state's new revision.
+    fn count_change(&self) -> u64 {
+        self.revision.fetch_add(1, Ordering::SeqCst) + 1
     }
 
-    /// [`publish`](Self::publish), with the publishing lock held; `shown` is what it guards.
-    fn publish_holding(&self, shown: &mut u64) {
-        // Read before the core: every change counted so far is in the core read below.
-        *shown = self.changes.load(Ordering::SeqCst);
+    /// Reads both streams from the core as it is now and publishes them: read under the lock,
+    /// serialized outside it.
+    pub fn publish(&self) {
         let stamp = self.clock.stamp();
-        let (velocity, steering) = self.shared.read(|state| {
+        let (revision, velocity, steering) = self.shared.read(|host| {
             (
-                wire::velocity_factors(state, stamp),
-                wire::steering_factors(state, stamp),
+                self.revision.load(Ordering::SeqCst),
+                wire::velocity_factors(host.state(), stamp),
+                wire::steering_factors(host.state(), stamp),
             )
         });
-        self.velocity
-            .send_replace(publish_frame(Topic::Velocity, &velocity));
-        self.steering
-            .send_replace(publish_frame(Topic::Steering, &steering));
+        send_newer(
+            &self.velocity,
+            Publication {
+                revision,
+                frame: publish_frame(Topic::Velocity, &velocity),
+            },
+        );
+        send_newer(
+            &self.steering,
+            Publication {
+                revision,
+                frame: publish_frame(Topic::Steering, &steering),
+            },
+        );
     }
 
     /// Asks the publishing task to publish soon; several asks before it runs make one
@@ -179,85 +198,77 @@ impl Node {
         self.changed.notified().await;
     }
 
-    /// An AD API service call, from the request's JSON to the response's. A call that changed
-    /// the core is published before this returns, so the caller's next publication shows it.
-    ///
-    /// Callers changing the core at once share publications: a call whose change is already
-    /// shown by a publication that read the core after it does not publish again. It may wait
-    /// for that publication (publications are made one at a time), so call it where blocking
-    /// is allowed.
-    #[must_use]
-    pub fn call(&self, service: Service, args: &[u8]) -> Vec<u8> {
-        let response = self.shared.update(|state| service.call_json(state, args));
-        if service != Service::GetPolicies && succeeded(&response) {
-            // Counted after the change is in the core, so a publication that reads the count
-            // first and the core after shows it.
-            let change = self.changes.fetch_add(1, Ordering::SeqCst) + 1;
-            let mut shown = lock(&self.publishing);
-            if *shown < change {
-                self.publish_holding(&mut shown);
-            }
+    /// Waits until both streams show revision `revision` or a later one, asking for a
+    /// publication. Callers changing the core at once share that publication.
+    pub async fn published(&self, revision: u64) {
+        self.publish_soon();
+        for topic in Topic::ALL {
+            let mut receiver = self.subscribe(topic);
+            // The sender lives as long as the node, so the wait ends with the publication.
+            let _shown = receiver
+                .wait_for(|publication| publication.revision >= revision)
+                .await;
         }
-        response
     }
 
-    /// A planning module's sync (`docs/server.md`), from JSON to JSON. The core's time is
-    /// brought up to now first, so a scene reported here starts its time to live now, not at
-    /// the last periodic tick.
+    /// An AD API service call, already read: the typed response, and the revision of the
+    /// state it made if it changed the core (wait for [`published`](Self::published) before
+    /// answering, so that the caller's next publication shows the change). Takes the lock: call
+    /// it where blocking is allowed.
     #[must_use]
-    pub fn sync(&self, args: &[u8]) -> Vec<u8> {
-        // Read before any lock is taken, so a large request holds up no one else.
-        let request = match sync::read(args) {
-            Ok(request) => request,
-            Err(message) => return wire::to_json(&sync::refused(message)),
-        };
-        let mut rtc = lock(&self.rtc);
+    pub fn call(&self, request: &Request) -> (Response, Option<u64>) {
+        self.shared.update(|host| {
+            let answer = host.answer(request);
+            let revision = answer.changed.then(|| self.count_change());
+            (answer.response, revision)
+        })
+    }
+
+    /// A planning module's sync (`docs/server.md`), already read. The core's time is brought
+    /// up to now first, so a scene reported here starts its time to live now, not at the last
+    /// periodic tick. Takes the lock: call it where blocking is allowed.
+    #[must_use]
+    pub fn sync(&self, request: &SyncRequest) -> SyncResponse {
         let stamp = self.clock.stamp();
-        let (expired, (response, changed)) = self.shared.update(|state| {
-            let expired = self.catch_up(&mut rtc, state);
-            (expired, sync::answer(&mut rtc, state, &request, stamp))
+        let now_ms = self.clock.elapsed_ms();
+        let (response, changed) = self.shared.update(|host| {
+            let expired = catch_up(host, now_ms);
+            let (response, changed) = sync::answer(host, request, stamp);
+            if changed || expired {
+                self.count_change();
+            }
+            (response, changed || expired)
         });
-        drop(rtc);
-        if changed || expired {
+        if changed {
             self.publish_soon();
         }
-        wire::to_json(&response)
+        response
     }
 
     /// Tells the core how much monotonic time passed since it was last told; publishes soon if
     /// scenes expired.
     pub fn tick(&self) {
-        let mut rtc = lock(&self.rtc);
-        let expired = self.shared.update(|state| self.catch_up(&mut rtc, state));
-        drop(rtc);
+        let now_ms = self.clock.elapsed_ms();
+        let expired = self.shared.update(|host| {
+            let expired = catch_up(host, now_ms);
+            if expired {
+                self.count_change();
+            }
+            expired
+        });
         if expired {
             self.publish_soon();
         }
     }
-
-    /// The core's `Tick` for the time since the last one, with the RTC interfaces' lock and the
-    /// core's held; whether scenes expired.
-    fn catch_up(&self, rtc: &mut Rtc, state: &mut State) -> bool {
-        let now = self.clock.elapsed_ms();
-        let mut ticked = lock(&self.ticked_ms);
-        let elapsed_ms = now.saturating_sub(*ticked);
-        *ticked = now;
-        drop(ticked);
-        if elapsed_ms == 0 {
-            return false;
-        }
-        match rtc.tick(state, elapsed_ms) {
-            Ok(transition) => !transition.retired.is_empty(),
-            Err(error) => {
-                tracing::error!(%error, "the core refused a tick");
-                false
-            }
-        }
-    }
 }
 
-/// Whether a `set_*` response's status is a success.
-fn succeeded(response: &[u8]) -> bool {
-    wire::from_json::<wire::SetCooperationCommandsResponse>(response)
-        .is_ok_and(|response| response.status.success)
+/// The core's `Tick` up to `now_ms` on the node's monotonic clock; whether scenes expired.
+fn catch_up(host: &mut Host, now_ms: u64) -> bool {
+    match host.advance_to(now_ms) {
+        Ok(transition) => transition.is_some_and(|t| !t.retired.is_empty()),
+        Err(error) => {
+            tracing::error!(%error, "the core refused a tick");
+            false
+        }
+    }
 }

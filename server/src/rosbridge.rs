@@ -5,7 +5,7 @@
 //! request's `id`; a `call_service` that fails is also answered with a `service_response`
 //! whose `result` is `false`, so a client waiting for it is not left waiting.
 
-use cooperation::wire::Service;
+use cooperation_ros::wire::Service;
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
@@ -135,15 +135,17 @@ fn is_object(frame: &str) -> bool {
     frame.trim_start().starts_with('{')
 }
 
-/// The node's answer to one text frame.
+/// The node's answer to one text frame, and, if it changed the core, the revision of the
+/// state it made: send the answer once the streams show it ([`Node::published`]), so that
+/// the client's next publication shows its change.
 #[must_use]
-pub fn handle(node: &Node, frame: &str) -> Vec<Action> {
+pub fn handle(node: &Node, frame: &str) -> (Vec<Action>, Option<u64>) {
     if !is_object(frame) {
         let msg = match serde_json::from_str::<&RawValue>(frame) {
             Ok(_) => "not a rosbridge frame: a frame is a JSON object".to_owned(),
             Err(error) => format!("not JSON: {error}"),
         };
-        return vec![Action::Send(error_status(&msg, None))];
+        return (vec![Action::Send(error_status(&msg, None))], None);
     }
     let envelope: Envelope<'_> = match serde_json::from_str(frame) {
         Ok(envelope) => envelope,
@@ -153,13 +155,20 @@ pub fn handle(node: &Node, frame: &str) -> Vec<Action> {
             } else {
                 format!("not JSON: {error}")
             };
-            return refuse(frame, &msg);
+            return (refuse(frame, &msg), None);
         }
     };
+    if envelope.op == "call_service" {
+        return call_service(node, &envelope);
+    }
+    (others(&envelope), None)
+}
+
+/// The answer to a frame that is not a service call: a subscription, or a refusal.
+fn others(envelope: &Envelope<'_>) -> Vec<Action> {
     let id = envelope.id;
     let refuse = |msg: &str| vec![Action::Send(error_status(msg, id))];
     match envelope.op.as_str() {
-        "call_service" => call_service(node, &envelope),
         "subscribe" | "unsubscribe" => {
             let Some(name) = envelope.topic.as_deref() else {
                 return refuse(&format!("{} without a topic", envelope.op));
@@ -196,10 +205,10 @@ pub fn handle(node: &Node, frame: &str) -> Vec<Action> {
     }
 }
 
-fn call_service(node: &Node, envelope: &Envelope<'_>) -> Vec<Action> {
+fn call_service(node: &Node, envelope: &Envelope<'_>) -> (Vec<Action>, Option<u64>) {
     let id = envelope.id;
     let name = envelope.service.as_deref().unwrap_or_default();
-    let failed = |msg: &str| failed_call(name, id, msg);
+    let failed = |msg: &str| (failed_call(name, id, msg), None);
     if envelope.service.is_none() {
         return failed("call_service without a service");
     }
@@ -230,22 +239,34 @@ fn call_service(node: &Node, envelope: &Envelope<'_>) -> Vec<Action> {
     } else {
         args
     };
-    let values = match ad_api {
-        Some(service) => node.call(service, args),
-        None => node.sync(args),
-    };
-    let values = String::from_utf8(values).unwrap_or_default();
-    let Ok(values) = serde_json::from_str::<&RawValue>(&values) else {
-        return failed("the response could not be written");
-    };
+    // Each request is read before the core's lock is taken, and its response written once,
+    // inside the frame that carries it.
+    match ad_api {
+        Some(service) => match service.read(args) {
+            Ok(request) => {
+                let (response, revision) = node.call(&request);
+                (vec![respond(name, id, &response)], revision)
+            }
+            Err(malformed) => (vec![respond(name, id, &service.refusal(&malformed))], None),
+        },
+        None => {
+            let response = match sync::read(args) {
+                Ok(request) => node.sync(&request),
+                Err(message) => sync::refused(message),
+            };
+            (vec![respond(name, id, &response)], None)
+        }
+    }
+}
+
+/// A successful `service_response` carrying `values`.
+fn respond<V: Serialize>(service: &str, id: Option<&RawValue>, values: &V) -> Action {
     let response = ServiceResponse {
         op: "service_response",
-        service: name,
+        service,
         id,
         values,
         result: true,
     };
-    vec![Action::Send(
-        serde_json::to_string(&response).unwrap_or_default(),
-    )]
+    Action::Send(serde_json::to_string(&response).unwrap_or_default())
 }

@@ -2,13 +2,14 @@
 //!
 //! A module sends every scene it reports this cycle as a `tier4_rtc_msgs/CooperateStatus` and
 //! the identifiers it removes; the node applies each through the module's RTC interface
-//! ([`cooperation::rtc::Interface`]) and answers with the interface's statuses and each live
+//! ([`cooperation_ros::rtc::Interface`]) and answers with the interface's statuses and each live
 //! scene's merged decision. `docs/server.md` shows the shapes.
 
 use std::collections::BTreeMap;
 
-use cooperation::rtc::{CooperateStatus, CooperateStatusArray, Interface, Rtc, Time, Uuid};
-use cooperation::{SceneId, Sequence, State};
+use cooperation::{SceneId, Sequence};
+use cooperation_ros::rtc::{CooperateStatus, CooperateStatusArray, RtcError, Uuid};
+use cooperation_ros::{Host, Time};
 use serde::{Deserialize, Serialize};
 
 /// The service's name.
@@ -86,13 +87,8 @@ pub struct Activation {
 }
 
 /// A request's answer from the core, and whether anything changed.
-pub fn answer(
-    rtc: &mut Rtc,
-    state: &mut State,
-    request: &SyncRequest,
-    stamp: Time,
-) -> (SyncResponse, bool) {
-    let mut interface = match rtc.interface(state, &request.interface) {
+pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, bool) {
+    let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
         Err(error) => return (refused(error.to_string()), false),
     };
@@ -104,7 +100,16 @@ pub fn answer(
     let mut changed = false;
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
     for status in &request.statuses {
-        let outcome = report(&mut interface, status, sequences.get(&status.uuid).copied());
+        let stated = sequences.get(&status.uuid).copied();
+        let outcome = status
+            .report()
+            .map_err(RtcError::from)
+            .map(|report| match stated {
+                Some(sequence) => report.in_sequence(sequence),
+                None => report,
+            })
+            .and_then(|report| interface.update_cooperate_status(&report))
+            .map(drop);
         changed |= outcome.is_ok();
         results.push(result(status.uuid, outcome));
     }
@@ -140,43 +145,6 @@ pub fn answer(
     (response, changed)
 }
 
-/// One status, through `updateCooperateStatus`, or its `_in` form when its sequence is stated.
-fn report(
-    interface: &mut Interface<'_>,
-    status: &CooperateStatus,
-    stated: Option<Sequence>,
-) -> Result<(), cooperation::rtc::RtcError> {
-    let id = SceneId::from(status.uuid);
-    let CooperateStatus {
-        safe,
-        requested,
-        state,
-        start_distance,
-        finish_distance,
-        ..
-    } = *status;
-    match stated {
-        Some(sequence) => interface.update_cooperate_status_in(
-            id,
-            sequence,
-            safe,
-            state.r#type,
-            start_distance,
-            finish_distance,
-            requested,
-        ),
-        None => interface.update_cooperate_status(
-            id,
-            safe,
-            state.r#type,
-            start_distance,
-            finish_distance,
-            requested,
-        ),
-    }
-    .map(drop)
-}
-
 fn result<E: ToString>(uuid: Uuid, outcome: Result<(), E>) -> SyncResult {
     match outcome {
         Ok(()) => SyncResult {
@@ -207,11 +175,11 @@ pub fn refused(message: String) -> SyncResponse {
 /// # Errors
 /// The message.
 pub fn read(args: &[u8]) -> Result<SyncRequest, String> {
-    if args.len() > cooperation::wire::MAX_REQUEST_BYTES {
+    if args.len() > cooperation_ros::wire::MAX_REQUEST_BYTES {
         return Err(format!(
             "the request is {} bytes, more than the {} a request may have",
             args.len(),
-            cooperation::wire::MAX_REQUEST_BYTES
+            cooperation_ros::wire::MAX_REQUEST_BYTES
         ));
     }
     let mut reader = serde_json::Deserializer::from_slice(args);

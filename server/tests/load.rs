@@ -92,5 +92,5 @@ async fn a_hundred_operators_and_500_scenes_at_10_hz() {
     served
         .node
         .shared()
-        .read(|state| assert_eq!(state.scenes().count(), 500));
+        .read(|host| assert_eq!(host.state().scenes().count(), 500));
 }

@@ -49,8 +49,8 @@ impl InProcess {
 }
 
 pub(super) const CALL: &str = "Node::call(SetCommands): JSON, core, response, publication";
-pub(super) const JSON_SERVICE: &str = "JSON service alone (Service::call_json under the lock)";
-pub(super) const CORE_COMMAND: &str = "core alone (Shared::set_commands, one command)";
+pub(super) const JSON_SERVICE: &str = "JSON service alone (read, answer under the lock, write)";
+pub(super) const CORE_COMMAND: &str = "core alone (one SetCommands input under the lock)";
 pub(super) const PUBLISH: &str = "Node::publish: both topics read, converted, serialized";
 pub(super) const CONVERT: &str = "core query + conversion to AD API messages (under the lock)";
 pub(super) const QUERY: &str = "core query alone (velocity_ + steering_factors_into)";
@@ -72,49 +72,59 @@ pub(super) fn in_process(node: &Node) -> InProcess {
         })
         .collect();
     let stamp = node.clock().stamp();
-    let (velocity, steering) = node.shared().read(|state| {
+    let (velocity, steering) = node.shared().read(|host| {
         (
-            wire::velocity_factors(state, stamp),
-            wire::steering_factors(state, stamp),
+            wire::velocity_factors(host.state(), stamp),
+            wire::steering_factors(host.state(), stamp),
         )
     });
     let (mut velocity_out, mut steering_out) = (Vec::new(), Vec::new());
     let mut lists = FactorLists::default();
+    // What a connection does for a call: read the request, answer it under the lock, write
+    // the response, and publish the change.
     let mut call = |i: usize| {
-        black_box(node.call(Service::SetCommands, &args[i % args.len()]));
+        if let Ok(request) = Service::SetCommands.read(&args[i % args.len()]) {
+            let (response, revision) = node.call(&request);
+            black_box(wire::to_json(&response));
+            if revision.is_some() {
+                node.publish();
+            }
+        }
     };
     let mut json_service = |i: usize| {
-        let request = &args[i % args.len()];
-        black_box(
-            node.shared()
-                .update(|state| Service::SetCommands.call_json(state, request)),
-        );
+        if let Ok(request) = Service::SetCommands.read(&args[i % args.len()]) {
+            let answer = node.shared().update(|host| host.answer(&request));
+            black_box(wire::to_json(&answer.response));
+        }
     };
     let mut core = |i: usize| {
+        let commands = vec![commands[i % commands.len()]];
         black_box(
             node.shared()
-                .set_commands(vec![commands[i % commands.len()]]),
-        );
+                .update(|host| host.state_mut().apply(&Input::SetCommands { commands })),
+        )
+        .ok();
     };
     let mut publish = |_: usize| node.publish();
     let mut convert = |_: usize| {
         let stamp = node.clock().stamp();
-        black_box(node.shared().read(|state| {
+        black_box(node.shared().read(|host| {
             (
-                wire::velocity_factors(state, stamp),
-                wire::steering_factors(state, stamp),
+                wire::velocity_factors(host.state(), stamp),
+                wire::steering_factors(host.state(), stamp),
             )
         }));
     };
     let mut query = |_: usize| {
-        node.shared().read(|state| {
-            state.velocity_factors_into(&mut velocity_out);
-            state.steering_factors_into(&mut steering_out);
+        node.shared().read(|host| {
+            host.state().velocity_factors_into(&mut velocity_out);
+            host.state().steering_factors_into(&mut steering_out);
         });
         black_box((&velocity_out, &steering_out));
     };
     let mut query_keyed = |_: usize| {
-        node.shared().read(|state| state.factors_into(&mut lists));
+        node.shared()
+            .read(|host| host.state().factors_into(&mut lists));
         black_box(&lists);
     };
     let mut serialize = |_: usize| {

@@ -28,8 +28,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use cooperation::wire::{self, Service};
-use cooperation::{Command, FactorLists, OperatorDecision, SceneId};
+use cooperation::{Command, FactorLists, Input, OperatorDecision, SceneId};
+use cooperation_ros::wire::{self, Service};
 use cooperation_server::{Node, Options, Topic};
 use futures_util::{SinkExt, StreamExt};
 use serde::Serialize;
@@ -408,26 +408,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let began = Instant::now();
 
     let mut config =
-        cooperation::settings::parse(include_str!("../../../config/cooperation.param.yaml"))?;
+        cooperation_ros::settings::parse(include_str!("../../../config/cooperation.param.yaml"))?;
     config.limits.max_scenes = config.limits.max_scenes.max(SCENES);
     let node = Arc::new(Node::new(config)?);
     let per_interface = SCENES.div_ceil(INTERFACES.len());
     for (at, interface) in INTERFACES.iter().enumerate() {
         let indices = at * per_interface..((at + 1) * per_interface).min(SCENES);
-        let response = node.sync(sync_args(interface, indices).as_bytes());
-        let response: serde_json::Value = serde_json::from_slice(&response)?;
-        if response["success"] != serde_json::Value::Bool(true) {
-            return Err(format!("the scenes of {interface} did not register: {response}").into());
+        let request = cooperation_server::sync::read(sync_args(interface, indices).as_bytes())?;
+        let response = node.sync(&request);
+        if !response.success {
+            return Err(format!("the scenes of {interface} did not register: {response:?}").into());
         }
     }
-    let live = node.shared().read(cooperation::State::scene_count);
+    let live = node.shared().read(|host| host.state().scene_count());
     if live != SCENES {
         return Err(format!("{live} live scenes, not {SCENES}").into());
     }
     node.publish();
     let frame_bytes: Vec<usize> = Topic::ALL
         .iter()
-        .map(|topic| node.subscribe(*topic).borrow().len())
+        .map(|topic| node.subscribe(*topic).borrow().frame.len())
         .collect();
 
     // The server on its own runtime (one worker per core, as `#[tokio::main]` makes), the
@@ -475,7 +475,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (each, all) = clients.block_on(delivery(address, &node, count, rounds))?;
         deliveries.push((count, each, all));
     }
-    let live_after = node.shared().read(cooperation::State::scene_count);
+    let live_after = node.shared().read(|host| host.state().scene_count());
     let load_after = load_average();
 
     let mut out = String::new();

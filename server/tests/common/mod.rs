@@ -36,7 +36,7 @@ impl Drop for Served {
 
 /// Serves a node with the default settings and these options.
 pub async fn serve(options: Options) -> Served {
-    let config = cooperation::settings::parse(SETTINGS).expect("the default settings read");
+    let config = cooperation_ros::settings::parse(SETTINGS).expect("the default settings read");
     let node = Arc::new(Node::new(config).expect("the default settings are a configuration"));
     let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
         .await
