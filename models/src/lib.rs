@@ -1,9 +1,21 @@
-//! Exhaustive stateright models of the cooperation core.
+//! Exhaustive stateright models of the cooperation core, and the checker's runs of them.
 //!
-//! Every model's `next_state` calls the library's [`cooperation::State::apply`], the function the
-//! library ships; no rule, guard or table of the specification is restated here. The
-//! properties are stated from the specification (the merged-decision table is read from
-//! `spec/cooperation.md` itself) and named by its tags.
+//! Every model's `next_state` calls the library's [`cooperation::State::apply`] (or, for the
+//! RTC model, the adapter `cooperation_ros::rtc`), the code the library ships; no rule, guard or
+//! table of the specification is restated to move a state. The properties are stated from the
+//! specification (its tables are read from `spec/cooperation.md` itself) and named by its tags.
+//!
+//! The crate has three parts, one folder each:
+//!
+//! - [`model`]: the models (sequential, network, RTC, and a trivial one for the checker's own
+//!   throughput), what they share, and the spec oracle they are compared with;
+//! - [`check`]: running the checker over them (strategy, budgets, progress, counterexamples),
+//!   random walks, rule-pair coverage, the pinned state counts, and the traces and summaries
+//!   they report;
+//! - `src/cli/`: the `cooperation-models` command, which parses options and calls the two.
+//!
+//! Generated documentation (diagrams, traceability, witnesses, the counts table, the reach
+//! table) is written by `cargo xtask`, not by this crate.
 
 #![deny(
     clippy::unwrap_used,
@@ -12,26 +24,12 @@
     clippy::indexing_slicing
 )]
 
-pub mod budget;
-pub mod coverage;
-pub mod describe;
-pub mod diagrams;
-pub mod fault;
-pub mod ids;
-pub mod network;
-pub mod rtc;
-pub mod run;
-pub mod sequential;
-pub mod simulate;
-pub mod spec;
-pub mod trace;
-pub mod traceability;
-pub mod trivial;
-pub mod witnesses;
+pub mod check;
+pub mod model;
 
-pub use fault::Fault;
-pub use ids::ModelError;
-pub use network::{NetBounds, NetworkModel, Views};
-pub use rtc::{RtcBounds, RtcFault, RtcModel};
-pub use sequential::{Bounds, SequentialModel, Step};
-pub use trace::Trace;
+pub use check::trace::Trace;
+pub use model::fault::Fault;
+pub use model::ids::ModelError;
+pub use model::network::{NetBounds, NetworkModel, Views};
+pub use model::rtc::{RtcBounds, RtcFault, RtcModel};
+pub use model::sequential::{Bounds, SequentialModel, Step};

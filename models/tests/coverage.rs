@@ -11,9 +11,9 @@ use cooperation::Rule::{
     TimeExpire,
 };
 use cooperation::{Input, Rule};
-use cooperation_models::budget::Halt;
-use cooperation_models::coverage::{explore, named, Found, Pairs, Progress, Record, Scope};
-use cooperation_models::run::{check, Settings, Strategy};
+use cooperation_models::check::budget::Halt;
+use cooperation_models::check::coverage::{explore, named, Found, Pairs, Progress, Record, Scope};
+use cooperation_models::check::run::{check, Settings, Strategy};
 use cooperation_models::{Bounds, Fault, SequentialModel};
 
 #[global_allocator]

@@ -1,10 +1,18 @@
-//! The exhaustive checks CI runs, to completion, with their unique-state counts pinned: a
-//! change in the reachable state space shows up here as a one-line diff to review.
+//! The exhaustive checks, to completion, with their state counts pinned
+//! (`cooperation_models::check::pins`): a change in the reachable state space shows up there as
+//! a one-line diff to review.
+//!
+//! The small ones run under the test command; the long ones are ignored there and run by
+//! `cargo test -p cooperation-models -- --ignored`, a step of CI of its own
+//! (docs/verification.md, *Which command runs what*).
 //!
 //! The pinned counts are the model's, not targets: if one moves, find out why before changing
 //! it (see docs/verification.md).
 
-use cooperation_models::run::{check, check_for, Checkable, Report, Settings, Stop, Strategy};
+use cooperation_models::check::pins::{self, Pin};
+use cooperation_models::check::run::{
+    check, check_for, Checkable, Report, Settings, Stop, Strategy,
+};
 use cooperation_models::{Bounds, NetBounds, NetworkModel, SequentialModel, Views};
 
 #[global_allocator]
@@ -40,6 +48,19 @@ where
     report
 }
 
+/// The report reached exactly the pinned counts (`cooperation_models::check::pins`, rendered as
+/// docs/counts.md): the unique states, and the generated ones where they are pinned.
+fn assert_pinned(report: &Report, pin: Pin) {
+    assert_eq!(report.unique, pin.unique, "unique states of {}", pin.test);
+    if let Some(generated) = pin.generated {
+        assert_eq!(
+            report.generated, generated,
+            "generated states of {}",
+            pin.test
+        );
+    }
+}
+
 /// The properties a report found unsatisfied.
 fn unsatisfied(report: &Report) -> Vec<&'static str> {
     report
@@ -57,7 +78,7 @@ fn two_modules_three_scenes() {
     let bounds = Bounds::new(2, 3);
     let one = run(bounds, 1, Strategy::Dfs, true);
     let two = run(bounds, 2, Strategy::Dfs, true);
-    assert_eq!((one.unique, one.generated), (994_453, 137_231_755));
+    assert_pinned(&one, pins::SEQUENTIAL_2X3);
     assert_eq!(two.unique, one.unique);
     eprintln!(
         "2x3: {} unique, {} generated; 1 thread {:.1} s, 2 threads {:.1} s",
@@ -70,16 +91,12 @@ fn two_modules_three_scenes() {
 
 /// Three modules × 3 scene identifiers (at most 2 live), to completion, depth first with
 /// symmetry reduction on 2 threads: about 5 minutes in a release build and 8 in this test
-/// profile (debug assertions on), so not part of the test command; CI runs it as a step of its
-/// own (`cargo test -p cooperation-models --test exhaustive -- --ignored`).
+/// profile (debug assertions on).
 #[test]
 #[ignore = "about 8 minutes on 2 cores; CI runs it as a step of its own"]
 fn three_modules_three_scenes() {
     let report = run(Bounds::new(3, 3), 2, Strategy::Dfs, true);
-    assert_eq!(
-        (report.unique, report.generated),
-        (6_415_437, 1_206_098_397)
-    );
+    assert_pinned(&report, pins::SEQUENTIAL_3X3);
     eprintln!(
         "3x3: {} unique, {} generated, {:.1} s on 2 threads",
         report.unique,
@@ -103,7 +120,7 @@ fn two_modules_three_scenes_hashed_table() {
         symmetry: true,
     };
     let report = passes(&model, settings);
-    assert_eq!(report.unique, 994_453);
+    assert_pinned(&report, pins::SEQUENTIAL_2X3_HASHED);
 }
 
 /// The hashed table again, without symmetry reduction. With it, the checker expands one state
@@ -122,7 +139,7 @@ fn one_module_three_scenes_hashed_table_without_symmetry() {
         symmetry: false,
     };
     let report = passes(&model, settings);
-    assert_eq!((report.unique, report.generated), (411_099, 36_174_953));
+    assert_pinned(&report, pins::SEQUENTIAL_1X3_HASHED);
 }
 
 /// The hashed table with three scenes live at once out of four identifiers, registered in
@@ -155,32 +172,31 @@ fn one_module_three_live_scenes_hashed_table_to_six_steps() {
     assert!(report.complete, "the search did not complete to its depth");
     assert_eq!(report.depth_bound, Some(6));
     assert_eq!(unsatisfied(&report), Vec::<&str>::new());
-    assert_eq!((report.unique, report.generated), (462_801, 12_421_979));
+    assert_pinned(&report, pins::SEQUENTIAL_1X4_HASHED_6_STEPS);
 }
 
 /// Without symmetry, depth first and breadth first agree: the reduction above loses nothing
-/// the smaller space can show. The counts are the 2 × 2 rows of docs/verification.md and of
-/// the reach table in docs/performance.md.
+/// the smaller space can show. The counts are the 2 × 2 rows of docs/counts.md.
 #[test]
 fn two_modules_two_scenes_without_symmetry() {
     let bounds = Bounds::new(2, 2);
     let dfs = run(bounds, 1, Strategy::Dfs, false);
     let bfs = run(bounds, 1, Strategy::Bfs, false);
-    assert_eq!((bfs.unique, bfs.generated), (26_601, 2_498_615));
+    assert_pinned(&bfs, pins::SEQUENTIAL_2X2);
     assert_eq!(dfs.unique, bfs.unique);
     let reduced = run(bounds, 1, Strategy::Dfs, true);
-    assert_eq!((reduced.unique, reduced.generated), (13_345, 1_252_551));
+    assert_pinned(&reduced, pins::SEQUENTIAL_2X2_SYMMETRY);
 }
 
-/// The 1 × 2 rows of the reach table in docs/performance.md: one module, 2 identifiers (at most
+/// The 1 × 2 rows of docs/counts.md: one module, 2 identifiers (at most
 /// 1 live), with and without symmetry.
 #[test]
 fn one_module_two_scenes() {
     let bounds = Bounds::new(1, 2);
     let reduced = run(bounds, 1, Strategy::Dfs, true);
-    assert_eq!((reduced.unique, reduced.generated), (1_879, 111_541));
+    assert_pinned(&reduced, pins::SEQUENTIAL_1X2_SYMMETRY);
     let bfs = run(bounds, 1, Strategy::Bfs, false);
-    assert_eq!((bfs.unique, bfs.generated), (3_719, 221_941));
+    assert_pinned(&bfs, pins::SEQUENTIAL_1X2);
 }
 
 /// A retired set smaller than the identifiers: the oldest retirements are forgotten, so the
@@ -194,7 +210,7 @@ fn forgetting_retired_identifiers() {
         retired: 1,
     };
     let report = run(bounds, 2, Strategy::Bfs, false);
-    assert_eq!((report.unique, report.generated), (73_249, 10_105_603));
+    assert_pinned(&report, pins::SEQUENTIAL_FORGETTING);
 }
 
 /// The network model: the planner and two operators, 2 scene identifiers, messages delayed,
@@ -218,14 +234,14 @@ fn network_two_operators_two_scenes() {
             symmetry: false,
         },
     );
-    assert_eq!(one.unique, 160_656);
+    assert_pinned(&one, pins::NETWORK);
     assert_eq!(two.unique, one.unique);
 }
 
 /// The network model with operator views carrying the library's whole statuses, decisions
 /// included, and owners that can abort: one operator, 2 scene identifiers; breadth first, the
 /// same with 1 and 2 threads. (Two operators with status views outgrow memory:
-/// `tests/network_measure.rs`.)
+/// docs/verification.md, *The network model*.)
 #[test]
 fn network_one_operator_two_scenes_status_views() {
     let model = NetworkModel::new(NetBounds { scenes: 2 })
@@ -239,7 +255,7 @@ fn network_one_operator_two_scenes_status_views() {
     };
     let one = passes(&model, settings(1));
     let two = passes(&model, settings(2));
-    assert_eq!(one.unique, 1_059_336);
+    assert_pinned(&one, pins::NETWORK_STATUS_VIEWS);
     assert_eq!(two.unique, one.unique);
     eprintln!(
         "network 1 operator x 2 ids, status views: {} unique, {} generated; 1 thread {:.1} s, \

@@ -3,8 +3,8 @@
 //! the shipped code.
 
 use cooperation::{OperatorDecision, SceneId};
-use cooperation_models::network::{reported, NetAction};
-use cooperation_models::run::{check, shortest, Settings, Strategy};
+use cooperation_models::check::run::{check, shortest, Settings, Strategy};
+use cooperation_models::model::network::{reported, NetAction};
 use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace, Views};
 
 #[global_allocator]

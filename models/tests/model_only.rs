@@ -4,7 +4,7 @@
 //! caught fault.
 
 use cooperation::TableLayout;
-use cooperation_models::run::{check_for, Checkable, Report, Settings, Stop, Strategy};
+use cooperation_models::check::run::{check_for, Checkable, Report, Settings, Stop, Strategy};
 use cooperation_models::{Bounds, NetBounds, NetworkModel, RtcBounds, RtcModel, SequentialModel};
 use stateright::Expectation;
 
@@ -149,7 +149,7 @@ fn rtc() {
     );
     let avoidance = RtcBounds {
         live: 2,
-        ..RtcBounds::new(1, 2).from_interface(cooperation_models::rtc::AVOIDANCE)
+        ..RtcBounds::new(1, 2).from_interface(cooperation_models::model::rtc::AVOIDANCE)
     };
     let model = RtcModel::new(avoidance).expect("valid");
     satisfied(

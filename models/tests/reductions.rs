@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use std::sync::{Arc, Mutex};
 
 use cooperation::Rule;
-use cooperation_models::run::{check_for, Report, Settings, Stop, Strategy};
+use cooperation_models::check::run::{check_for, Report, Settings, Stop, Strategy};
 use cooperation_models::{Bounds, Fault, SequentialModel, Step};
 use stateright::{Checker, Model, Path};
 

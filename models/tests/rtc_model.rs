@@ -5,8 +5,9 @@
 //! The pinned counts are the model's, not targets: if one moves, find out why before changing
 //! it (see docs/verification.md).
 
-use cooperation_models::rtc::AVOIDANCE;
-use cooperation_models::run::{check, shortest, Report, Settings, Strategy};
+use cooperation_models::check::pins;
+use cooperation_models::check::run::{check, shortest, Report, Settings, Strategy};
+use cooperation_models::model::rtc::AVOIDANCE;
 use cooperation_models::{RtcBounds, RtcFault, RtcModel, Trace};
 use stateright::Expectation;
 
@@ -55,7 +56,7 @@ fn two_interfaces_three_scenes() {
     assert_eq!(unsatisfied(&one), Vec::<&str>::new());
     let two = run(bounds, 2, Strategy::Dfs, true);
     assert_eq!(unsatisfied(&two), Vec::<&str>::new());
-    assert_eq!(one.unique, 1_968_042);
+    assert_eq!(one.unique, pins::RTC_2X3.unique);
     assert_eq!(two.unique, one.unique);
     eprintln!(
         "rtc 2x3: {} unique, {} generated; 1 thread {:.1} s, 2 threads {:.1} s",
@@ -139,7 +140,7 @@ fn avoidance_change_and_return() {
             "witness: two interfaces have live scenes at once",
         ]
     );
-    assert_eq!(report.unique, 363_472);
+    assert_eq!(report.unique, pins::RTC_AVOIDANCE.unique);
 }
 
 /// Both avoidance interfaces, which share their two modules, so only the routes keep their
@@ -156,7 +157,7 @@ fn two_avoidance_interfaces() {
             "witness: one interface has live scenes of two modules under different policies",
         ]
     );
-    assert_eq!(report.unique, 317_268);
+    assert_eq!(report.unique, pins::RTC_TWO_AVOIDANCES.unique);
 }
 
 /// The property each fault must break.
@@ -246,7 +247,7 @@ fn the_fault_bounds_pass_without_a_fault() {
 /// is a witness, and each makes a file name.
 #[test]
 fn property_names_are_unique_and_tagged() {
-    let names: Vec<&str> = cooperation_models::rtc::properties()
+    let names: Vec<&str> = cooperation_models::model::rtc::properties()
         .iter()
         .map(|p| p.name)
         .collect();

@@ -4,7 +4,7 @@
 //! fault is caught and its trace replays.
 
 use cooperation::Rule;
-use cooperation_models::simulate::{run, Findings, Progress, Swarm};
+use cooperation_models::check::simulate::{run, Findings, Progress, Swarm};
 use cooperation_models::{Bounds, Fault, SequentialModel};
 
 #[global_allocator]

@@ -1,0 +1,204 @@
+//! Every pinned state count, in one table.
+//!
+//! A pin is the number of distinct states (and, where pinned, of generated successors) that one
+//! checked configuration reaches. The tests assert these values, so a change in the reachable
+//! state space is a one-line diff here to review; `cargo xtask docs` renders this table as
+//! `docs/counts.md`, which the rest of the documentation links to instead of repeating a
+//! number; and `cargo xtask docs --check` fails when the reach table of `docs/performance.md`
+//! measured another count for a pinned configuration, or a page repeats a pinned count.
+//!
+//! The counts are the models', not targets: if one moves, find out why before changing it
+//! (`docs/verification.md`).
+
+/// One checked configuration and what it reaches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pin {
+    /// The test that asserts it, as `file::function`.
+    pub test: &'static str,
+    /// The model, as the reach table names it.
+    pub model: &'static str,
+    /// The bounds, as the reach table writes them.
+    pub bounds: &'static str,
+    /// The search, as the reach table writes it.
+    pub search: &'static str,
+    /// Distinct states (after symmetry reduction where it is on).
+    pub unique: usize,
+    /// Successors generated, duplicates included; `None` where only the unique count is pinned.
+    pub generated: Option<usize>,
+}
+
+/// The sequential model, 2 modules × 3 identifiers: the CI configuration and the main job's.
+pub const SEQUENTIAL_2X3: Pin = Pin {
+    test: "models/tests/exhaustive.rs::two_modules_three_scenes",
+    model: "sequential",
+    bounds: "2 × 3",
+    search: "DFS, symmetry",
+    unique: 994_453,
+    generated: Some(137_231_755),
+};
+
+/// The sequential model, 3 modules × 3 identifiers.
+pub const SEQUENTIAL_3X3: Pin = Pin {
+    test: "models/tests/exhaustive.rs::three_modules_three_scenes",
+    model: "sequential",
+    bounds: "3 × 3",
+    search: "DFS, symmetry",
+    unique: 6_415_437,
+    generated: Some(1_206_098_397),
+};
+
+/// The CI configuration with the hashed table from the first scene: the same states.
+pub const SEQUENTIAL_2X3_HASHED: Pin = Pin {
+    test: "models/tests/exhaustive.rs::two_modules_three_scenes_hashed_table",
+    model: "sequential, hashed table",
+    bounds: "2 × 3",
+    search: "DFS, symmetry",
+    unique: SEQUENTIAL_2X3.unique,
+    generated: None,
+};
+
+/// The hashed table, one module × 3 identifiers, without symmetry.
+pub const SEQUENTIAL_1X3_HASHED: Pin = Pin {
+    test: "models/tests/exhaustive.rs::one_module_three_scenes_hashed_table_without_symmetry",
+    model: "sequential, hashed table",
+    bounds: "1 × 3",
+    search: "BFS",
+    unique: 411_099,
+    generated: Some(36_174_953),
+};
+
+/// The hashed table, one module × 4 identifiers with 3 live at once, to six steps.
+pub const SEQUENTIAL_1X4_HASHED_6_STEPS: Pin = Pin {
+    test: "models/tests/exhaustive.rs::one_module_three_live_scenes_hashed_table_to_six_steps",
+    model: "sequential, hashed table, 3 live",
+    bounds: "1 × 4",
+    search: "BFS to 6 steps",
+    unique: 462_801,
+    generated: Some(12_421_979),
+};
+
+/// The sequential model, 2 × 2, breadth first without symmetry.
+pub const SEQUENTIAL_2X2: Pin = Pin {
+    test: "models/tests/exhaustive.rs::two_modules_two_scenes_without_symmetry",
+    model: "sequential",
+    bounds: "2 × 2",
+    search: "BFS",
+    unique: 26_601,
+    generated: Some(2_498_615),
+};
+
+/// The sequential model, 2 × 2, depth first with symmetry.
+pub const SEQUENTIAL_2X2_SYMMETRY: Pin = Pin {
+    test: "models/tests/exhaustive.rs::two_modules_two_scenes_without_symmetry",
+    model: "sequential",
+    bounds: "2 × 2",
+    search: "DFS, symmetry",
+    unique: 13_345,
+    generated: Some(1_252_551),
+};
+
+/// The sequential model, 1 × 2, breadth first without symmetry.
+pub const SEQUENTIAL_1X2: Pin = Pin {
+    test: "models/tests/exhaustive.rs::one_module_two_scenes",
+    model: "sequential",
+    bounds: "1 × 2",
+    search: "BFS",
+    unique: 3_719,
+    generated: Some(221_941),
+};
+
+/// The sequential model, 1 × 2, depth first with symmetry.
+pub const SEQUENTIAL_1X2_SYMMETRY: Pin = Pin {
+    test: "models/tests/exhaustive.rs::one_module_two_scenes",
+    model: "sequential",
+    bounds: "1 × 2",
+    search: "DFS, symmetry",
+    unique: 1_879,
+    generated: Some(111_541),
+};
+
+/// The sequential model, 2 × 3 with one scene live and one retired identifier remembered.
+pub const SEQUENTIAL_FORGETTING: Pin = Pin {
+    test: "models/tests/exhaustive.rs::forgetting_retired_identifiers",
+    model: "sequential, 1 live, 1 retired remembered",
+    bounds: "2 × 3",
+    search: "BFS",
+    unique: 73_249,
+    generated: Some(10_105_603),
+};
+
+/// The network model: the planner and two operators, 2 identifiers.
+pub const NETWORK: Pin = Pin {
+    test: "models/tests/exhaustive.rs::network_two_operators_two_scenes",
+    model: "network",
+    bounds: "2 ids",
+    search: "BFS",
+    unique: 160_656,
+    generated: None,
+};
+
+/// The network model, one operator whose views carry whole statuses, 2 identifiers.
+pub const NETWORK_STATUS_VIEWS: Pin = Pin {
+    test: "models/tests/exhaustive.rs::network_one_operator_two_scenes_status_views",
+    model: "network, 1 operator, status views",
+    bounds: "2 ids",
+    search: "BFS",
+    unique: 1_059_336,
+    generated: None,
+};
+
+/// The RTC model: the two lane-change interfaces, 3 identifiers.
+pub const RTC_2X3: Pin = Pin {
+    test: "models/tests/rtc_model.rs::two_interfaces_three_scenes",
+    model: "rtc",
+    bounds: "2 × 3",
+    search: "DFS, symmetry",
+    unique: 1_968_042,
+    generated: None,
+};
+
+/// The RTC model: one avoidance interface, a change and a return live at once.
+pub const RTC_AVOIDANCE: Pin = Pin {
+    test: "models/tests/rtc_model.rs::avoidance_change_and_return",
+    model: "rtc, one avoidance interface, 2 live",
+    bounds: "1 × 2",
+    search: "DFS, symmetry",
+    unique: 363_472,
+    generated: None,
+};
+
+/// The RTC model: both avoidance interfaces, one scene live at a time.
+pub const RTC_TWO_AVOIDANCES: Pin = Pin {
+    test: "models/tests/rtc_model.rs::two_avoidance_interfaces",
+    model: "rtc, both avoidance interfaces",
+    bounds: "2 × 2",
+    search: "DFS, symmetry",
+    unique: 317_268,
+    generated: None,
+};
+
+/// Every pin, in the order `docs/counts.md` lists them.
+pub const ALL: [Pin; 15] = [
+    SEQUENTIAL_1X2,
+    SEQUENTIAL_1X2_SYMMETRY,
+    SEQUENTIAL_2X2,
+    SEQUENTIAL_2X2_SYMMETRY,
+    SEQUENTIAL_2X3,
+    SEQUENTIAL_3X3,
+    SEQUENTIAL_FORGETTING,
+    SEQUENTIAL_2X3_HASHED,
+    SEQUENTIAL_1X3_HASHED,
+    SEQUENTIAL_1X4_HASHED_6_STEPS,
+    NETWORK,
+    NETWORK_STATUS_VIEWS,
+    RTC_2X3,
+    RTC_AVOIDANCE,
+    RTC_TWO_AVOIDANCES,
+];
+
+/// The pin of the configuration the reach table names so, if one is pinned.
+#[must_use]
+pub fn find(model: &str, bounds: &str, search: &str) -> Option<Pin> {
+    ALL.into_iter()
+        .find(|pin| pin.model == model && pin.bounds == bounds && pin.search == search)
+}

@@ -1,0 +1,22 @@
+//! The models and the spec oracle: what is checked, and what it is checked against.
+//!
+//! - [`sequential`]: the core alone, one input at a time, every input of a bounded alphabet in
+//!   every reachable state; its properties are the spec's rules, tables and invariants.
+//! - [`network`]: the planner and operators with messages delayed, reordered, duplicated and
+//!   lost between them.
+//! - [`rtc`]: the RTC adapter (`cooperation_ros::rtc`) over the core, call by call.
+//! - [`trivial`]: a model with no logic, for the checker's raw throughput.
+//! - [`spec`]: the spec as the properties state it, its tables read from its text and its rules
+//!   written from its words: an oracle compared with, never used to move a state.
+//! - [`fault`]: deliberately wrong behaviours wrapped around the transition (sensitivity tests
+//!   only), and the one place a model applies an input.
+//! - [`ids`] and [`describe`]: what every model shares: identifiers, errors, inputs in words.
+
+pub mod describe;
+pub mod fault;
+pub mod ids;
+pub mod network;
+pub mod rtc;
+pub mod sequential;
+pub mod spec;
+pub mod trivial;
