@@ -5,8 +5,8 @@ use std::sync::OnceLock;
 use core::cmp::Ordering;
 
 use cooperation::{
-    Decision, FactorKind, FactorLists, Geometry, OperatorDecision, Phase, Policy, Rule, SceneId,
-    State, TableLayout,
+    CooperationStatus, Decision, FactorKind, FactorLists, Geometry, OperatorDecision, Phase,
+    Policy, Rule, SceneId, State, TableLayout,
 };
 use stateright::Property;
 
@@ -159,6 +159,42 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
         && core
             .retired_by_id()
             .all(|(id, retirement)| core.retirement(id) == Some(retirement))
+}
+
+/// `[COOP-OUT-STATUS.1]`: statuses are listed in identifier order, whatever order the scenes
+/// were registered in. Symmetry reduction expands one state of each class equal up to
+/// renaming, the first one met, in which scenes registered in identifier order; so this state
+/// is also renamed by the identifiers' reversal, which puts its scenes into a new table of the
+/// same layout in descending order, and the renamed state's listings must be the spec's: every
+/// live identifier once, ascending, each with its own status. The live identifiers and their
+/// statuses are found by lookup, identifier by identifier, never by the table's own listing.
+fn statuses_in_identifier_order(_: &SequentialModel, step: &Step) -> bool {
+    let known = step.ghost.known() as u128;
+    let id = SceneId::from_u128;
+    let reverse = |scene: SceneId| {
+        let n = scene.to_u128();
+        if (1..=known).contains(&n) {
+            id(known + 1 - n)
+        } else {
+            scene
+        }
+    };
+    let listed_as_the_spec = |core: &State| {
+        let expected: Vec<CooperationStatus> =
+            (1..=known).filter_map(|n| core.status(id(n))).collect();
+        let mut statuses = Vec::new();
+        core.statuses_into(&mut statuses);
+        statuses == expected
+            && core
+                .scenes()
+                .map(|(scene, _)| scene)
+                .eq(expected.iter().map(|status| status.id))
+    };
+    listed_as_the_spec(&step.core)
+        && step
+            .core
+            .relabel(reverse)
+            .is_some_and(|reversed| listed_as_the_spec(&reversed))
 }
 
 /// `State::relabel`, which symmetry reduction relies on: renaming by the identity gives the
@@ -374,6 +410,10 @@ fn always() -> Vec<(&'static str, Condition)> {
         (
             "spec §3: the state's queries agree with one another",
             queries_agree,
+        ),
+        (
+            "COOP-OUT-STATUS.1: statuses are listed in identifier order, whatever order the scenes registered in",
+            statuses_in_identifier_order,
         ),
         (SERIALIZES, serializes),
         (
