@@ -14,6 +14,7 @@
     clippy::indexing_slicing
 )]
 
+pub mod access;
 pub mod clock;
 pub mod connection;
 pub mod node;
@@ -26,18 +27,21 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use axum::extract::ws::WebSocketUpgrade;
-use axum::extract::State as Extracted;
+use axum::extract::{Request, State as Extracted};
+use axum::http::HeaderValue;
+use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::Router;
 use tokio::net::TcpListener;
 use tokio::sync::Semaphore;
 
+pub use access::Access;
 pub use connection::Limits;
 pub use node::{Node, Topic};
 
 /// How the node runs.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[derive(Clone, PartialEq, Eq, Debug)]
 pub struct Options {
     /// The interval between periodic publications of the factors.
     pub publish_every: Duration,
@@ -47,6 +51,8 @@ pub struct Options {
     pub max_clients: usize,
     /// Each connection's limits.
     pub limits: Limits,
+    /// The origins and host names accepted besides the node's own ([`access`]).
+    pub access: Access,
 }
 
 impl Default for Options {
@@ -56,6 +62,7 @@ impl Default for Options {
             tick_every: Duration::from_millis(100),
             max_clients: 256,
             limits: Limits::default(),
+            access: Access::default(),
         }
     }
 }
@@ -65,6 +72,7 @@ struct App {
     node: Arc<Node>,
     clients: Arc<Semaphore>,
     limits: Limits,
+    access: Arc<Access>,
 }
 
 impl Options {
@@ -117,10 +125,12 @@ pub async fn serve(
         node,
         clients: Arc::new(Semaphore::new(options.max_clients)),
         limits: options.limits,
+        access: Arc::new(options.access),
     };
     let router = Router::new()
         .route("/", get(root))
         .merge(panel::routes())
+        .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
         .with_state(app);
     let served = axum::serve(listener, router).with_graceful_shutdown(shutdown);
     let served = tokio::select! {
@@ -143,6 +153,22 @@ pub async fn serve(
 /// The bind's failure.
 pub async fn bind(address: SocketAddr) -> std::io::Result<TcpListener> {
     TcpListener::bind(address).await
+}
+
+/// Every request: refused with 403 if its host or, for a WebSocket, its page's origin is not
+/// accepted ([`access`]); else served, with the headers that forbid framing its page.
+async fn guard(Extracted(app): Extracted<App>, request: Request, next: Next) -> Response {
+    if let Err(refusal) = app.access.check(request.headers()) {
+        tracing::warn!("a request refused: {refusal}");
+        return (refusal.status(), refusal.to_string()).into_response();
+    }
+    let mut response = next.run(request).await;
+    for (name, value) in access::FRAMING {
+        response
+            .headers_mut()
+            .insert(name, HeaderValue::from_static(value));
+    }
+    response
 }
 
 /// `/`: a WebSocket upgrade is a rosbridge client; anything else gets the panel.

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use clap::Parser;
-use cooperation_server::{Node, Options};
+use cooperation_server::{Access, Node, Options};
 
 /// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
 /// steering factors) and the planning modules' sync service over the rosbridge v2 protocol,
@@ -28,6 +28,14 @@ struct Args {
     /// At most this many clients at once.
     #[arg(long, default_value_t = 256)]
     max_clients: usize,
+    /// An origin (`scheme://host[:port]`) whose pages may open a WebSocket to the node, besides
+    /// the node's own panel; repeat for more. A browser page of any other origin is refused.
+    #[arg(long = "allow-origin", value_name = "ORIGIN")]
+    allow_origins: Vec<String>,
+    /// A host name clients may reach the node by, besides its IP addresses and localhost;
+    /// repeat for more. A request naming any other host is refused (DNS rebinding).
+    #[arg(long = "allow-host", value_name = "NAME")]
+    allow_hosts: Vec<String>,
 }
 
 #[tokio::main]
@@ -66,6 +74,10 @@ async fn run(args: Args) -> Result<(), String> {
     let options = Options {
         publish_every,
         max_clients: args.max_clients,
+        access: Access {
+            origins: args.allow_origins,
+            hosts: args.allow_hosts,
+        },
         ..Options::default()
     };
     if let Some(problem) = options.problem() {

@@ -9,7 +9,8 @@
 // /usr/bin/chromium), HEADED=1 to watch.
 
 import { spawn } from 'node:child_process';
-import { existsSync, mkdirSync, mkdtempSync } from 'node:fs';
+import { existsSync, mkdirSync, mkdtempSync, writeFileSync } from 'node:fs';
+import http from 'node:http';
 import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
@@ -301,6 +302,35 @@ async function run(state) {
     () => document.getElementById('connection').dataset.state === 'connected');
   log('the page is connected');
 
+  // A page of another origin cannot connect (cross-site WebSocket hijacking), while the same
+  // script on the panel's own page can: a page served from another port of this host, and a
+  // file:// page (origin null). Both are real local pages: a page Playwright fulfils itself
+  // has no address, and Chromium's local-network checks would refuse it whatever the node did.
+  const tryConnect = (url) => new Promise((resolve) => {
+    const socket = new WebSocket(url);
+    socket.onopen = () => { resolve('open'); socket.close(); };
+    socket.onerror = () => resolve('refused');
+    setTimeout(() => resolve('no answer'), 4000);
+  });
+  const nodeUrl = `ws://127.0.0.1:${port}/`;
+  const own = await page.evaluate(tryConnect, nodeUrl);
+  if (own !== 'open') throw new Failure(`the panel's own page could not open a second WebSocket: ${own}`);
+  state.strangerServer = http.createServer((_, response) => {
+    response.writeHead(200, { 'content-type': 'text/html' });
+    response.end('<title>another origin</title>');
+  });
+  await new Promise((resolve) => state.strangerServer.listen(0, '127.0.0.1', resolve));
+  const strangerDir = mkdtempSync(path.join(os.tmpdir(), 'stranger-'));
+  writeFileSync(path.join(strangerDir, 'stranger.html'), '<title>a file</title>');
+  const stranger = await state.browser.newPage();
+  for (const url of [`http://127.0.0.1:${state.strangerServer.address().port}/`, `file://${strangerDir}/stranger.html`]) {
+    await stranger.goto(url, { timeout: STEP_MS });
+    const answer = await stranger.evaluate(tryConnect, nodeUrl);
+    if (answer !== 'refused') throw new Failure(`a page at ${url} opened a WebSocket to the node: ${answer}`);
+  }
+  await stranger.close();
+  log('pages of other origins are refused; the panel\'s own page is not');
+
   // The scenes appear, nearest first, velocity and steering factors merged.
   const wanted = NEAREST_FIRST.map((s) => s.hex);
   await pageUntil(page, `the table lists the scenes nearest first (${wanted.join(', ')})`,
@@ -372,6 +402,7 @@ async function run(state) {
 
 async function cleanUp(state) {
   if (state.module) state.module.close();
+  if (state.strangerServer) state.strangerServer.close();
   if (state.browser) await state.browser.close().catch(() => {});
   await stopServer(state.server);
 }
