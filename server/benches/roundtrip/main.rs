@@ -125,8 +125,11 @@ fn command_args(index: usize, decision: u8) -> String {
     )
 }
 
-fn decision(iteration: usize) -> u8 {
-    if iteration % 2 == 0 {
+/// The decision of a scene's `pass`-th command: they alternate, so that every command changes
+/// the core and is published before it is answered (a command that changes nothing is answered
+/// at once, which would measure the transport instead).
+fn decision(pass: usize) -> u8 {
+    if pass % 2 == 0 {
         ACTIVATE
     } else {
         DEACTIVATE
@@ -214,12 +217,16 @@ enum Ask {
     GetPolicies,
 }
 
-fn frame(ask: Ask, client: usize, iteration: usize) -> String {
+/// The frame of `client`'s `iteration`-th call, one of `clients`. A command's number
+/// `iteration × clients + client` is unique in the case: it names the scene (modulo the scenes)
+/// and, by its pass over them, the decision.
+fn frame(ask: Ask, client: usize, clients: usize, iteration: usize) -> String {
+    let command = iteration * clients + client;
     match ask {
         Ask::SetCommands => format!(
             "{{\"op\":\"call_service\",\"id\":\"c{client}-{iteration}\",\"service\":\"{SET_COMMANDS}\",\
              \"args\":{}}}",
-            command_args(client * 37 + iteration, decision(iteration))
+            command_args(command, decision(command / SCENES))
         ),
         Ask::GetPolicies => format!(
             "{{\"op\":\"call_service\",\"id\":\"c{client}-{iteration}\",\"service\":\"{GET_POLICIES}\",\
@@ -254,7 +261,7 @@ impl Until {
 async fn operator(
     address: SocketAddr,
     ask: Ask,
-    client: usize,
+    (client, clients): (usize, usize),
     count: usize,
     start: Arc<Barrier>,
     until: Until,
@@ -271,7 +278,7 @@ async fn operator(
         if iteration > WARM_UP && until.reached() {
             break;
         }
-        let text = frame(ask, client, iteration);
+        let text = frame(ask, client, clients, iteration);
         let id = format!("\"id\":\"c{client}-{iteration}\"");
         let sent = Instant::now();
         socket
@@ -325,7 +332,7 @@ async fn round_trips(
             tokio::spawn(operator(
                 address,
                 ask,
-                client,
+                (client, clients),
                 each,
                 Arc::clone(&start),
                 until.clone(),
@@ -345,7 +352,7 @@ async fn round_trips(
                 .block_on(operator(
                     address,
                     Ask::GetPolicies,
-                    clients,
+                    (clients, clients + 1),
                     ROUND_TRIPS,
                     start,
                     watching,
