@@ -76,7 +76,7 @@ fn the_small_bounds_hold_the_pairs_the_argument_needs_and_grow_only() {
 }
 
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn two_live_scenes_add_the_pairs_that_need_them() {
     let three = measure(&model(1, 3), true, 2).pairs;
     let two = measure(&model(1, 2), true, 2).pairs;

@@ -3,7 +3,7 @@
 //! a one-line diff to review.
 //!
 //! The small ones run under the test command; the long ones are ignored there and run by
-//! `cargo test -p cooperation-models -- --ignored`, a step of CI of its own
+//! `cargo test --release -p cooperation-models -- --ignored`, a step of CI of its own
 //! (docs/verification.md, *Which command runs what*).
 //!
 //! The pinned counts are the model's, not targets: if one moves, find out why before changing
@@ -74,7 +74,7 @@ fn unsatisfied(report: &Report) -> Vec<&'static str> {
 /// The CI configuration: 2 modules, 3 scene identifiers (at most 2 live), every input, to
 /// completion, depth first with symmetry reduction; the same count with 1 and 2 threads.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn two_modules_three_scenes() {
     let bounds = Bounds::new(2, 3);
     let one = run(bounds, 1, Strategy::Dfs, true);
@@ -91,10 +91,10 @@ fn two_modules_three_scenes() {
 }
 
 /// Three modules × 3 scene identifiers (at most 2 live), to completion, depth first with
-/// symmetry reduction on 2 threads: about 5 minutes in a release build and 8 in this test
-/// profile (debug assertions on).
+/// symmetry reduction on 2 threads: about 6.5 minutes in the release profile (as CI runs it),
+/// longer in the test profile (debug assertions on).
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn three_modules_three_scenes() {
     let report = run(Bounds::new(3, 3), 2, Strategy::Dfs, true);
     assert_pinned(&report, pins::SEQUENTIAL_3X3);
@@ -111,7 +111,7 @@ fn three_modules_three_scenes() {
 /// wrap-around deletion and index rebuilds all run under every property. The layout is invisible
 /// to `Eq` and `Hash`, so the count is the default layout's.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn two_modules_three_scenes_hashed_table() {
     let model = SequentialModel::new(Bounds::new(2, 3))
         .expect("valid bounds")
@@ -131,7 +131,7 @@ fn two_modules_three_scenes_hashed_table() {
 /// fault passes the run above and fails this one at depth 4. The count is the default
 /// layout's.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn one_module_three_scenes_hashed_table_without_symmetry() {
     let model = SequentialModel::new(Bounds::new(1, 3))
         .expect("valid bounds")
@@ -154,7 +154,7 @@ fn one_module_three_scenes_hashed_table_without_symmetry() {
 /// run across the end. One thread: with more, which states a depth bound cuts off can vary
 /// between runs.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn one_module_three_live_scenes_hashed_table_to_six_steps() {
     let bounds = Bounds {
         live: 3,
@@ -247,7 +247,7 @@ fn network_two_operators_two_scenes() {
 /// same with 1 and 2 threads. (Two operators with status views outgrow memory:
 /// docs/verification.md, *The network model*.)
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn network_one_operator_two_scenes_status_views() {
     let model = NetworkModel::new(NetBounds { scenes: 2 })
         .and_then(|model| model.with_operators(1))

@@ -104,7 +104,7 @@ fn every_fault_is_caught_with_a_replayable_counterexample() {
 
 /// The same bounds break no safety property without a fault: the faults, not the bounds, fail.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn the_fault_bounds_pass_without_a_fault() {
     let settings = Settings {
         threads: 2,

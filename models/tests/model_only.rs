@@ -54,7 +54,7 @@ where
 /// The sequential model with two live scenes (so expiry, the scene limit and commands over two
 /// scenes happen), in both table layouts, and with two modules.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn sequential() {
     for table in [TableLayout::Adaptive, TableLayout::Colliding] {
         let model = SequentialModel::new(Bounds::new(1, 3))
@@ -116,7 +116,7 @@ fn sequential() {
 /// retirement order matters); and the avoidance, bound to two sequences, with two identifiers
 /// live at once.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn rtc() {
     let bounds = RtcBounds {
         live: 2,
@@ -170,7 +170,7 @@ fn rtc() {
 
 /// The network model at its CI bounds.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn network() {
     let model = NetworkModel::new(NetBounds { scenes: 2 }).expect("valid");
     let bfs = Settings {

@@ -66,7 +66,7 @@ fn stalled_rules(model: &SequentialModel, symmetry: bool) -> (usize, BTreeSet<Ru
 /// stalled step per rule that the unmerged search stalls on, and the unmerged search keeps
 /// every stalled step it reaches.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn merging_stalled_steps_keeps_every_verdict_and_the_counts_the_argument_gives() {
     for (modules, scenes) in [(1, 2), (2, 2)] {
         for symmetry in [true, false] {
@@ -101,7 +101,7 @@ fn merging_stalled_steps_keeps_every_verdict_and_the_counts_the_argument_gives()
 /// it leaves reachable, do not depend on the reduction. Each fault at the smallest bounds of
 /// `tests/faults.rs` that show it with one module, and the one that needs two at 2 × 2.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn merging_stalled_steps_keeps_every_faults_verdicts() {
     for fault in Fault::ALL {
         let bounds = match fault {

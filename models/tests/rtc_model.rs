@@ -50,7 +50,7 @@ fn broken(report: &Report) -> Vec<&'static str> {
 /// 3 scene identifiers (at most 2 live), every call, to completion, depth first with symmetry
 /// reduction; every property satisfied, and the same count with 1 and 2 threads.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn two_interfaces_three_scenes() {
     let bounds = RtcBounds::new(2, 3);
     let one = run(bounds, 1, Strategy::Dfs, true);
@@ -86,7 +86,7 @@ fn three_interfaces_two_scenes() {
 
 /// Without symmetry, depth first and breadth first agree, and the reduction is a reduction.
 #[test]
-#[ignore = "a long exhaustive check: `cargo test -p cooperation-models -- --ignored` (CI runs it)"]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn two_interfaces_two_scenes_without_symmetry() {
     let bounds = RtcBounds {
         live: 2,
