@@ -1,5 +1,5 @@
-//! The command line: a node that cannot start says why and exits with status 1
-//! (`docs/server.md`).
+//! The command line: a node that cannot start says why and exits with status 1, in a log
+//! with no colour codes when it is not written to a terminal (`docs/server.md`).
 
 use std::process::Command;
 
@@ -15,6 +15,8 @@ fn refused(args: &[&str], names: &str) {
         log.contains(names),
         "{args:?}: {log:?} does not name {names:?}"
     );
+    // Written to a pipe, not a terminal: plain text, no colour codes.
+    assert!(!log.contains('\u{1b}'), "{args:?}: colour codes in {log:?}");
 }
 
 #[test]
