@@ -15,8 +15,9 @@ use cooperation_server::{Access, Node, Options};
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
-    /// The address to listen on.
-    #[arg(long, default_value = "127.0.0.1:9090")]
+    /// The address to listen on: HOST:PORT, the host an IP address or a name (localhost:9090),
+    /// a name standing for the first address it resolves to.
+    #[arg(long, default_value = "127.0.0.1:9090", value_parser = listen_address)]
     listen: SocketAddr,
     /// The settings file with the modules' default policies and the limits (by default the
     /// repository's, at the path it had when the node was built).
@@ -36,6 +37,14 @@ struct Args {
     /// repeat for more. A request naming any other host is refused (DNS rebinding).
     #[arg(long = "allow-host", value_name = "NAME")]
     allow_hosts: Vec<String>,
+}
+
+/// `--listen`'s address: an IP address and port, or a name and port, resolved.
+fn listen_address(text: &str) -> Result<SocketAddr, String> {
+    std::net::ToSocketAddrs::to_socket_addrs(text)
+        .map_err(|error| format!("{text}: {error}"))?
+        .next()
+        .ok_or_else(|| format!("{text}: the name resolves to no address"))
 }
 
 #[tokio::main]

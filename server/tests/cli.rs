@@ -45,6 +45,8 @@ fn a_node_that_cannot_start_says_why() {
         "bad.yaml",
     );
     refused(&["--listen", "127.0.0.1:0", "--rate", "0"], "--rate 0");
+    // A host name is an address too: the node gets as far as its other options.
+    refused(&["--listen", "localhost:0", "--rate", "0"], "--rate 0");
     refused(
         &["--listen", "127.0.0.1:0", "--rate", "1e-20"],
         "--rate 0.00000000000000000001",
