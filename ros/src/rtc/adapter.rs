@@ -51,6 +51,8 @@ pub struct Rtc {
     /// identifiers the core no longer remembers are pruned when they could outnumber the live
     /// and retired identifiers.
     routes: BTreeMap<SceneId, usize>,
+    /// At most this many live scenes per interface, if set ([`Rtc::with_scene_quota`]).
+    quota: Option<usize>,
 }
 
 impl Default for Rtc {
@@ -84,6 +86,7 @@ impl Rtc {
         Ok(Self {
             bindings,
             routes: BTreeMap::new(),
+            quota: None,
         })
     }
 
@@ -93,7 +96,24 @@ impl Rtc {
         Self {
             bindings: Binding::standard(),
             routes: BTreeMap::new(),
+            quota: None,
         }
+    }
+
+    /// The same interfaces, each holding at most `quota` live scenes: a report of a new scene
+    /// through an interface that holds as many is refused ([`RtcError::SceneQuota`]), so one
+    /// module cannot fill the core's table ([`Limits::max_scenes`](cooperation::Limits)) and
+    /// lock the others out. Upstream has no such limit.
+    #[must_use]
+    pub const fn with_scene_quota(mut self, quota: usize) -> Self {
+        self.quota = Some(quota);
+        self
+    }
+
+    /// The quota of live scenes per interface, if set.
+    #[must_use]
+    pub const fn scene_quota(&self) -> Option<usize> {
+        self.quota
     }
 
     /// The bindings, in the order given.
@@ -124,7 +144,11 @@ impl Rtc {
         state: &'a mut cooperation::State,
         name: &str,
     ) -> Result<Interface<'a>, RtcError> {
-        let Self { bindings, routes } = self;
+        let Self {
+            bindings,
+            routes,
+            quota,
+        } = self;
         let bindings: &'a [Binding] = bindings;
         let (index, binding) = find(bindings, state, name)?;
         Ok(Interface {
@@ -133,6 +157,7 @@ impl Rtc {
             index,
             routes,
             state,
+            quota: *quota,
         })
     }
 

@@ -134,6 +134,16 @@ pub enum RtcError {
         /// other error small).
         rejection: Box<Rejection>,
     },
+    /// A new scene reported through an interface that holds its quota of live scenes
+    /// ([`Rtc::with_scene_quota`](super::Rtc::with_scene_quota)); nothing was registered.
+    SceneQuota {
+        /// The scene.
+        id: SceneId,
+        /// The interface.
+        interface: String,
+        /// Its quota.
+        quota: usize,
+    },
     /// The core refused the input (`[COOP-DEV-SILENT-DROP.1]`).
     Core(Rejection),
 }
@@ -220,6 +230,15 @@ impl fmt::Display for RtcError {
             } => write!(
                 f,
                 "scene {id} is not registered and cannot start {phase}: {rejection}"
+            ),
+            Self::SceneQuota {
+                id,
+                interface,
+                quota,
+            } => write!(
+                f,
+                "scene {id} is not registered, and RTC interface {interface:?} already has \
+                 {quota} live scenes, the most it may have"
             ),
             Self::Core(rejection) => rejection.fmt(f),
         }

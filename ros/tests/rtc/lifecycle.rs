@@ -160,3 +160,40 @@ fn a_cleared_identifier_is_not_registered_again() {
         Some(Rule::RegisterRetired)
     );
 }
+
+/// With a scene quota, an interface holding its quota of live scenes refuses a new one, changing
+/// nothing, while its live scenes still update and another interface still registers; once one
+/// of its scenes is removed, a new one registers.
+#[test]
+fn an_interface_at_its_scene_quota_refuses_a_new_scene_and_nothing_else() {
+    let mut fx = Fixture::new(false);
+    fx.rtc = fx.rtc.clone().with_scene_quota(2);
+    assert_eq!(fx.rtc.scene_quota(), Some(2));
+    let waiting = rtc::Lifecycle::WAITING_FOR_EXECUTION;
+    fx.report(LEFT, id(1), true, waiting).expect("first");
+    fx.report(LEFT, id(2), true, waiting).expect("second");
+    let before = (fx.rtc.clone(), fx.state.clone());
+    let error = fx
+        .report(LEFT, id(3), true, waiting)
+        .expect_err("over the quota");
+    assert!(
+        matches!(&error, rtc::RtcError::SceneQuota { interface, quota: 2, .. } if interface == LEFT),
+        "{error:?}"
+    );
+    assert!(
+        error.to_string().contains("already has 2 live scenes"),
+        "{error}"
+    );
+    assert_eq!((&fx.rtc, &fx.state), (&before.0, &before.1));
+    fx.report(LEFT, id(2), false, waiting)
+        .expect("a live scene still updates");
+    fx.report("lane_change_right", id(3), true, waiting)
+        .expect("another interface has its own quota");
+    fx.rtc
+        .interface(&mut fx.state, LEFT)
+        .expect("bound")
+        .remove_cooperate_status(id(1))
+        .expect("removed");
+    fx.report(LEFT, id(4), true, waiting)
+        .expect("a place freed");
+}

@@ -143,6 +143,7 @@ pub struct Interface<'a> {
     pub(super) index: usize,
     pub(super) routes: &'a mut BTreeMap<SceneId, usize>,
     pub(super) state: &'a mut cooperation::State,
+    pub(super) quota: Option<usize>,
 }
 
 impl Interface<'_> {
@@ -182,8 +183,10 @@ impl Interface<'_> {
     /// [`RtcError::SequenceUnstated`] if the scene is not live, the interface binds several
     /// sequences and none is stated; [`RtcError::InitialPhase`] if a new scene cannot start in
     /// the phase; the core's rejection otherwise (`WrongModule` for a live scene of another
-    /// sequence, a phase change the lifecycle forbids, a retired identifier). Nothing changes on
-    /// an error.
+    /// sequence, a phase change the lifecycle forbids, a retired identifier);
+    /// [`RtcError::SceneQuota`] if the scene is new and the interface holds its quota of live
+    /// scenes ([`Rtc::with_scene_quota`](super::Rtc::with_scene_quota)). Nothing changes on an
+    /// error.
     pub fn update_cooperate_status(
         &mut self,
         status: &StatusReport,
@@ -234,6 +237,21 @@ impl Interface<'_> {
                     bound: self.binding.modules().collect(),
                 })?,
         };
+        if let Some(quota) = self.quota {
+            let index = self.index;
+            let live = self
+                .state
+                .scenes()
+                .filter(|(id, _)| self.routes.get(id) == Some(&index))
+                .count();
+            if live >= quota {
+                return Err(RtcError::SceneQuota {
+                    id,
+                    interface: self.binding.name.clone(),
+                    quota,
+                });
+            }
+        }
         let register = Input::Register {
             id,
             module,
