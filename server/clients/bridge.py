@@ -86,10 +86,12 @@ class Answer:
 class Connection:
     """One roslibpy connection to the node, with its ``status`` frames collected."""
 
-    def __init__(self, port, host="127.0.0.1", timeout=TIMEOUT):
+    def __init__(self, port, host="127.0.0.1", timeout=TIMEOUT, token=None):
         self._statuses = []
         self._condition = threading.Condition()
-        self.ros = roslibpy.Ros(host=host, port=port)
+        # A node with credentials takes the token as a bearer token when the WebSocket opens.
+        headers = {"Authorization": f"Bearer {token}"} if token else None
+        self.ros = roslibpy.Ros(host=host, port=port, headers=headers)
         # Installed as the connection opens, before any frame is read.
         self.ros.factory.on_ready(self._install_status_handler)
         try:

@@ -108,8 +108,16 @@
     setText($('connection-text'), text);
   }
 
+  // A node with credentials lets the panel in with an operator's token, given in the page's
+  // address after `#token=` (the part after `#` never leaves the browser).
+  function token() {
+    const match = /(?:^#|&)token=([A-Za-z0-9._~-]+)/.exec(location.hash);
+    return match ? match[1] : null;
+  }
+
   function connect() {
-    const url = `ws://${location.host}/`;
+    const given = token();
+    const url = `ws://${location.host}/` + (given ? `?token=${given}` : '');
     showConnection('connecting', `Connecting to ${location.host}…`);
     const client = new ROSLIB.Ros({ url });
     ros = client;
@@ -141,7 +149,11 @@
       renderScenes();
       renderPolicies(null);
       const seconds = (reconnectDelay / 1000).toFixed(1);
-      showConnection('disconnected', `Not connected to ${location.host}; retrying in ${seconds} s`);
+      const hint = given ? '' : ' (a node with credentials needs #token=… in this address)';
+      showConnection(
+        'disconnected',
+        `Not connected to ${location.host}${hint}; retrying in ${seconds} s`,
+      );
       setTimeout(connect, reconnectDelay);
       reconnectDelay = Math.min(reconnectDelay * 2, 5000);
     });

@@ -11,14 +11,23 @@
 //!   [`Limits::write_timeout`]) is disconnected, and so is a silent one: the node pings every
 //!   [`Limits::keepalive`] and disconnects a client from which nothing, not even the pong,
 //!   arrives for three times as long.
+//! - **An idle client**, one that holds no subscription and has sent no request for
+//!   [`Limits::idle`], is disconnected: it holds a place and does nothing with it.
+//! - **Subscriptions** are kept per `id`, as rosbridge keeps them: a topic is sent while any
+//!   of its subscriptions lasts, at most once per the smallest `throttle_rate` among them, and
+//!   each publication at most once per connection (a new subscription gets the newest
+//!   publication at once only if the connection was never sent it).
 
+use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Duration;
 
 use axum::extract::ws::{CloseFrame, Message, Utf8Bytes, WebSocket};
 use futures_util::{SinkExt, StreamExt};
 use tokio::sync::{mpsc, watch};
+use tokio::time::Instant;
 
+use crate::auth::Grant;
 use crate::node::{Node, Publication, Topic};
 use crate::rosbridge::{self, Action};
 
@@ -28,7 +37,8 @@ pub struct Limits {
     /// Frames above this many bytes are refused with a `status` frame and the connection
     /// goes on.
     pub frame: usize,
-    /// Frames above this many bytes close the connection: it is not read any further.
+    /// Messages above this many bytes, whole or still arriving in fragments, close the
+    /// connection when they pass it: the most a connection's unread message holds.
     pub hard_frame: usize,
     /// Answers waiting to be sent, per connection.
     pub queue: usize,
@@ -38,39 +48,113 @@ pub struct Limits {
     /// The node pings the client this often; a client from which nothing (not even the pong)
     /// arrives for three times as long is disconnected.
     pub keepalive: Duration,
+    /// A client that holds no subscription and has sent no request for this long is
+    /// disconnected.
+    pub idle: Duration,
 }
 
 impl Default for Limits {
     fn default() -> Self {
         Self {
-            frame: 2 << 20,
-            hard_frame: 16 << 20,
+            frame: 1 << 20,
+            hard_frame: 2 << 20,
             queue: 64,
             write_timeout: Duration::from_secs(10),
             keepalive: Duration::from_secs(20),
+            idle: Duration::from_secs(60),
         }
     }
 }
 
 enum Out {
     Frame(Utf8Bytes),
-    Subscribe(Topic),
-    Unsubscribe(Topic),
+    /// The topic is to be sent at most once per this interval; `None`: not sent.
+    Topic(Topic, Option<Duration>),
+}
+
+/// One connection's subscriptions: for each topic, each subscription's `id` (`None` for one
+/// without) and its `throttle_rate`.
+#[derive(Default)]
+struct Subscriptions {
+    topics: BTreeMap<(u8, Option<String>), Duration>,
+}
+
+impl Subscriptions {
+    const fn key(topic: Topic) -> u8 {
+        match topic {
+            Topic::Velocity => 0,
+            Topic::Steering => 1,
+        }
+    }
+
+    /// The topic's interval after a change: the smallest throttle of its subscriptions, or
+    /// `None` if it has none left.
+    fn apply(&mut self, action: Action) -> Out {
+        let (topic, key) = match action {
+            Action::Send(frame) => return Out::Frame(Utf8Bytes::from(frame)),
+            Action::Subscribe {
+                topic,
+                id,
+                throttle,
+            } => {
+                self.topics.insert((Self::key(topic), id), throttle);
+                (topic, Self::key(topic))
+            }
+            Action::Unsubscribe {
+                topic,
+                id: Some(id),
+            } => {
+                self.topics.remove(&(Self::key(topic), Some(id)));
+                (topic, Self::key(topic))
+            }
+            Action::Unsubscribe { topic, id: None } => {
+                let key = Self::key(topic);
+                self.topics.retain(|(of, _), _| *of != key);
+                (topic, key)
+            }
+        };
+        let every = self
+            .topics
+            .iter()
+            .filter(|((of, _), _)| *of == key)
+            .map(|(_, throttle)| *throttle)
+            .min();
+        Out::Topic(topic, every)
+    }
+
+    fn any(&self) -> bool {
+        !self.topics.is_empty()
+    }
 }
 
 /// Serves one client until it leaves, stalls, or sends a frame over the hard limit.
-pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
+pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits, grant: Grant) {
     let (sink, mut stream) = socket.split();
     let (out, queue) = mpsc::channel(limits.queue.max(1));
     let mut writer = tokio::spawn(write(sink, queue, Arc::clone(&node), limits));
     let mut writer_done = false;
+    let grant = Arc::new(grant);
+    let mut subscriptions = Subscriptions::default();
+    let mut last_request = Instant::now();
+    let silent = limits.keepalive.saturating_mul(3);
     loop {
+        let idle_at = (!subscriptions.any()).then(|| last_request + limits.idle);
+        let wait_until = idle_at.map_or(Instant::now() + silent, |idle_at| {
+            idle_at.min(Instant::now() + silent)
+        });
         // When the writer gives up on the client (it stalled), the reading stops too, so
         // the connection closes.
         let received = tokio::select! {
-            received = tokio::time::timeout(limits.keepalive.saturating_mul(3), stream.next()) => {
+            received = tokio::time::timeout_at(wait_until, stream.next()) => {
                 received.unwrap_or_else(|_| {
-                    tracing::info!("a client sent nothing, not even a pong, for too long; disconnected");
+                    if idle_at.is_some_and(|idle_at| Instant::now() >= idle_at) {
+                        tracing::warn!(
+                            "a client with no subscription sent no request for {:?}; disconnected",
+                            limits.idle
+                        );
+                    } else {
+                        tracing::info!("a client sent nothing, not even a pong, for too long; disconnected");
+                    }
                     None
                 })
             }
@@ -84,7 +168,10 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
         };
         let Some(received) = received else { break };
         let actions = match received {
-            Ok(Message::Text(text)) => handle(&node, text, limits.frame).await,
+            Ok(Message::Text(text)) => {
+                last_request = Instant::now();
+                handle(&node, text, limits.frame, &grant).await
+            }
             Ok(Message::Binary(_)) => vec![Action::Send(rosbridge::error_status(
                 "a binary frame: this node reads rosbridge JSON in text frames (no CBOR or BSON)",
                 None,
@@ -97,12 +184,7 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
             }
         };
         for action in actions {
-            let out_item = match action {
-                Action::Send(frame) => Out::Frame(Utf8Bytes::from(frame)),
-                Action::Subscribe(topic) => Out::Subscribe(topic),
-                Action::Unsubscribe(topic) => Out::Unsubscribe(topic),
-            };
-            if out.send(out_item).await.is_err() {
+            if out.send(subscriptions.apply(action)).await.is_err() {
                 break;
             }
         }
@@ -118,8 +200,9 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits) {
 /// A text frame's answer, worked out on the blocking pool (it reads the frame and takes the
 /// core's lock, which must not hold up the tasks of other connections); an answer to a call
 /// that changed the core waits for the publication that shows the change.
-async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize) -> Vec<Action> {
+async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize, grant: &Arc<Grant>) -> Vec<Action> {
     let worker = Arc::clone(node);
+    let grant = Arc::clone(grant);
     let work = move || {
         if text.len() > max {
             let msg = format!(
@@ -128,7 +211,7 @@ async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize) -> Vec<Action> {
             );
             (rosbridge::refuse(text.as_str(), &msg), None)
         } else {
-            rosbridge::handle(&worker, text.as_str())
+            rosbridge::handle(&worker, text.as_str(), &grant)
         }
     };
     let (actions, revision) = tokio::task::spawn_blocking(work)
@@ -144,40 +227,96 @@ async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize) -> Vec<Action> {
     actions
 }
 
+/// One topic as the writer sends it.
+struct Stream {
+    receiver: watch::Receiver<Publication>,
+    /// `None`: not subscribed; else at most one publication per this interval.
+    every: Option<Duration>,
+    /// When the next publication may be sent, when the interval holds one back.
+    not_before: Option<Instant>,
+    /// Whether this connection was ever sent the topic.
+    sent: bool,
+}
+
+impl Stream {
+    fn new(receiver: watch::Receiver<Publication>) -> Self {
+        Self {
+            receiver,
+            every: None,
+            not_before: None,
+            sent: false,
+        }
+    }
+
+    /// Starts, re-times or stops the topic. The first subscription of the connection gets
+    /// the newest publication at once; a later one only publications it was not yet sent.
+    fn set(&mut self, every: Option<Duration>) {
+        if every.is_some() && self.every.is_none() && !self.sent {
+            self.receiver.mark_changed();
+        }
+        self.every = every;
+    }
+
+    /// Whether a publication may be sent now.
+    fn open(&self) -> bool {
+        self.every.is_some() && self.not_before.is_none_or(|at| Instant::now() >= at)
+    }
+
+    /// The newest publication, marked as sent.
+    fn take(&mut self) -> Message {
+        self.sent = true;
+        self.not_before = self
+            .every
+            .filter(|every| !every.is_zero())
+            .map(|every| Instant::now() + every);
+        Message::Text(self.receiver.borrow_and_update().frame.clone())
+    }
+
+    /// When a held-back publication may be sent (far off when none is held back).
+    fn reopens(&self) -> Instant {
+        match (self.every, self.not_before) {
+            (Some(_), Some(at)) if at > Instant::now() => at,
+            _ => Instant::now() + Duration::from_secs(3600),
+        }
+    }
+}
+
 async fn write<S>(mut sink: S, mut queue: mpsc::Receiver<Out>, node: Arc<Node>, limits: Limits)
 where
     S: futures_util::Sink<Message> + Unpin,
     S::Error: std::fmt::Display,
 {
-    let mut velocity = node.subscribe(Topic::Velocity);
-    let mut steering = node.subscribe(Topic::Steering);
-    let (mut to_velocity, mut to_steering) = (false, false);
+    let mut velocity = Stream::new(node.subscribe(Topic::Velocity));
+    let mut steering = Stream::new(node.subscribe(Topic::Steering));
     let mut keepalive = tokio::time::interval(limits.keepalive);
     keepalive.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     keepalive.reset();
     loop {
+        let (velocity_open, steering_open) = (velocity.open(), steering.open());
+        let reopens = velocity.reopens().min(steering.reopens());
         let message = tokio::select! {
             biased;
             item = queue.recv() => match item {
                 Some(Out::Frame(frame)) => Message::Text(frame),
-                Some(Out::Subscribe(topic)) => {
-                    subscription(topic, true, &mut to_velocity, &mut to_steering, &mut velocity, &mut steering);
+                Some(Out::Topic(Topic::Velocity, every)) => {
+                    velocity.set(every);
                     continue;
                 }
-                Some(Out::Unsubscribe(topic)) => {
-                    subscription(topic, false, &mut to_velocity, &mut to_steering, &mut velocity, &mut steering);
+                Some(Out::Topic(Topic::Steering, every)) => {
+                    steering.set(every);
                     continue;
                 }
                 None => break,
             },
-            changed = velocity.changed(), if to_velocity => match changed {
-                Ok(()) => Message::Text(velocity.borrow_and_update().frame.clone()),
+            changed = velocity.receiver.changed(), if velocity_open => match changed {
+                Ok(()) => velocity.take(),
                 Err(_) => break,
             },
-            changed = steering.changed(), if to_steering => match changed {
-                Ok(()) => Message::Text(steering.borrow_and_update().frame.clone()),
+            changed = steering.receiver.changed(), if steering_open => match changed {
+                Ok(()) => steering.take(),
                 Err(_) => break,
             },
+            () = tokio::time::sleep_until(reopens) => continue,
             _ = keepalive.tick() => Message::Ping(axum::body::Bytes::new()),
         };
         match tokio::time::timeout(limits.write_timeout, sink.send(message)).await {
@@ -200,23 +339,4 @@ where
         reason: Utf8Bytes::default(),
     }));
     let _closed = tokio::time::timeout(Duration::from_secs(1), sink.send(close)).await;
-}
-
-/// Starts or stops a topic; a new subscriber is sent the newest publication at once.
-fn subscription(
-    topic: Topic,
-    on: bool,
-    to_velocity: &mut bool,
-    to_steering: &mut bool,
-    velocity: &mut watch::Receiver<Publication>,
-    steering: &mut watch::Receiver<Publication>,
-) {
-    let (flag, receiver) = match topic {
-        Topic::Velocity => (to_velocity, velocity),
-        Topic::Steering => (to_steering, steering),
-    };
-    if on && !*flag {
-        receiver.mark_changed();
-    }
-    *flag = on;
 }

@@ -15,10 +15,13 @@
 )]
 
 pub mod access;
+pub mod auth;
 pub mod clock;
 pub mod connection;
+pub mod front;
 pub mod node;
 mod panel;
+pub mod rosapi;
 pub mod rosbridge;
 pub mod sync;
 
@@ -28,7 +31,7 @@ use std::time::Duration;
 
 use axum::extract::ws::WebSocketUpgrade;
 use axum::extract::{Request, State as Extracted};
-use axum::http::HeaderValue;
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode, Uri};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
@@ -37,7 +40,9 @@ use tokio::net::TcpListener;
 use tokio::sync::Semaphore;
 
 pub use access::Access;
+pub use auth::{Credentials, Grant};
 pub use connection::Limits;
+pub use front::Admission;
 pub use node::{Node, Topic};
 
 /// How the node runs.
@@ -47,8 +52,14 @@ pub struct Options {
     pub publish_every: Duration,
     /// The interval between ticks of the core's clock.
     pub tick_every: Duration,
-    /// At most this many clients at once; one more is answered HTTP 503.
+    /// At most this many clients without a credential at once (a node with no credentials);
+    /// one more is answered HTTP 503.
     pub max_clients: usize,
+    /// The credentials clients must present, each with places of its own; `None`: any client
+    /// may do anything ([`auth`]).
+    pub credentials: Option<Credentials>,
+    /// The limits on connections before they become WebSockets ([`front`]).
+    pub admission: Admission,
     /// Each connection's limits.
     pub limits: Limits,
     /// The origins and host names accepted besides the node's own ([`access`]).
@@ -61,6 +72,8 @@ impl Default for Options {
             publish_every: Duration::from_millis(200),
             tick_every: Duration::from_millis(100),
             max_clients: 256,
+            credentials: None,
+            admission: Admission::default(),
             limits: Limits::default(),
             access: Access::default(),
         }
@@ -71,6 +84,9 @@ impl Default for Options {
 struct App {
     node: Arc<Node>,
     clients: Arc<Semaphore>,
+    credentials: Option<Arc<Credentials>>,
+    /// Each credential's places, in the credentials' order.
+    places: Arc<[Arc<Semaphore>]>,
     limits: Limits,
     access: Arc<Access>,
 }
@@ -85,6 +101,7 @@ impl Options {
             ("the tick interval", self.tick_every),
             ("the write timeout", self.limits.write_timeout),
             ("the keepalive interval", self.limits.keepalive),
+            ("the idle timeout", self.limits.idle),
         ];
         if let Some((name, _)) = intervals.iter().find(|(_, every)| every.is_zero()) {
             return Some(format!("{name} is zero"));
@@ -96,7 +113,19 @@ impl Options {
                 Semaphore::MAX_PERMITS
             ));
         }
-        None
+        if let Some(credentials) = &self.credentials {
+            if credentials.places == 0 || credentials.places > Semaphore::MAX_PERMITS {
+                return Some(format!(
+                    "{} connections per credential: give from 1 to {}",
+                    credentials.places,
+                    Semaphore::MAX_PERMITS
+                ));
+            }
+        }
+        if self.limits.hard_frame < self.limits.frame {
+            return Some("the hard frame limit is below the frame limit".to_owned());
+        }
+        self.admission.problem()
     }
 }
 
@@ -121,9 +150,21 @@ pub async fn serve(
     }
     let mut publisher = tokio::spawn(publish(Arc::clone(&node), options.publish_every));
     let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
+    let places = options
+        .credentials
+        .iter()
+        .flat_map(|credentials| {
+            credentials
+                .list()
+                .iter()
+                .map(|_| Arc::new(Semaphore::new(credentials.places)))
+        })
+        .collect();
     let app = App {
         node,
         clients: Arc::new(Semaphore::new(options.max_clients)),
+        credentials: options.credentials.map(Arc::new),
+        places,
         limits: options.limits,
         access: Arc::new(options.access),
     };
@@ -132,9 +173,9 @@ pub async fn serve(
         .merge(panel::routes())
         .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
         .with_state(app);
-    let served = axum::serve(listener, router).with_graceful_shutdown(shutdown);
+    let served = front::accept(listener, router, options.admission, shutdown);
     let served = tokio::select! {
-        served = served => served,
+        () = served => Ok(()),
         stopped = &mut publisher => Err(std::io::Error::other(format!(
             "the publishing task stopped: {stopped:?}"
         ))),
@@ -171,30 +212,89 @@ async fn guard(Extracted(app): Extracted<App>, request: Request, next: Next) -> 
     response
 }
 
-/// `/`: a WebSocket upgrade is a rosbridge client; anything else gets the panel.
+/// `/`: a WebSocket upgrade is a rosbridge client, let in with its credential's grant and
+/// place ([`auth`]); anything else gets the panel.
 async fn root(
     Extracted(app): Extracted<App>,
+    peer: Option<axum::Extension<front::Peer>>,
+    uri: Uri,
+    headers: HeaderMap,
     upgrade: Result<WebSocketUpgrade, axum::extract::ws::rejection::WebSocketUpgradeRejection>,
 ) -> Response {
     let Ok(upgrade) = upgrade else {
         return panel::page().into_response();
     };
-    let Ok(permit) = Arc::clone(&app.clients).try_acquire_owned() else {
-        tracing::warn!("a client refused: the node serves as many as it may");
-        return (
-            axum::http::StatusCode::SERVICE_UNAVAILABLE,
-            "this node serves as many clients as it may; try again later",
-        )
-            .into_response();
+    let address = peer
+        .as_ref()
+        .map_or_else(|| "unknown".to_owned(), |peer| peer.address.to_string());
+    let admitted = match admit(&app, &headers, &uri) {
+        Ok(admitted) => admitted,
+        Err((status, why)) => {
+            tracing::warn!(peer = %address, "a client refused: {why}");
+            let mut response = (status, why).into_response();
+            if status == StatusCode::UNAUTHORIZED {
+                response
+                    .headers_mut()
+                    .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
+            }
+            return response;
+        }
     };
+    let (grant, permit) = admitted;
+    // A WebSocket without a credential counts against its address for as long as it is open.
+    let seat = matches!(grant, Grant::Anyone)
+        .then(|| peer.map(|peer| Arc::clone(&peer.seat)))
+        .flatten();
+    if let Grant::Credential(credential) = &grant {
+        tracing::info!(peer = %address, credential = %credential.name, "a client authenticated");
+    }
     let limits = app.limits;
     upgrade
         .max_message_size(limits.hard_frame)
         .max_frame_size(limits.hard_frame)
         .on_upgrade(move |socket| async move {
-            connection::serve(socket, app.node, limits).await;
+            connection::serve(socket, app.node, limits, grant).await;
             drop(permit);
+            drop(seat);
         })
+}
+
+/// What a WebSocket upgrade is let in with: its grant and its place; or the HTTP status and
+/// the reason it is refused.
+fn admit(
+    app: &App,
+    headers: &HeaderMap,
+    uri: &Uri,
+) -> Result<(Grant, tokio::sync::OwnedSemaphorePermit), (StatusCode, String)> {
+    let Some(credentials) = &app.credentials else {
+        let permit = Arc::clone(&app.clients).try_acquire_owned().map_err(|_| {
+            (
+                StatusCode::SERVICE_UNAVAILABLE,
+                "this node serves as many clients as it may; try again later".to_owned(),
+            )
+        })?;
+        return Ok((Grant::Anyone, permit));
+    };
+    let index = credentials
+        .identify(headers, uri)
+        .map_err(|why| (StatusCode::UNAUTHORIZED, why.to_owned()))?;
+    let (Some(credential), Some(places)) = (credentials.list().get(index), app.places.get(index))
+    else {
+        return Err((
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "no such credential".to_owned(),
+        ));
+    };
+    let permit = Arc::clone(places).try_acquire_owned().map_err(|_| {
+        (
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!(
+                "credential {:?} has {} connections open, the most it may have",
+                credential.name, credentials.places
+            ),
+        )
+    })?;
+    Ok((Grant::Credential(credential.clone()), permit))
 }
 
 /// Publishes both topics periodically, and soon after a change is announced.

@@ -7,7 +7,10 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use clap::Parser;
-use cooperation_server::{Access, Node, Options};
+use cooperation_server::{Access, Credentials, Node, Options};
+
+/// The repository's settings, built in: the node's settings unless `--settings` names a file.
+const DEFAULT_SETTINGS: &str = include_str!("../../config/cooperation.param.yaml");
 
 /// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
 /// steering factors) and the planning modules' sync service over the rosbridge v2 protocol,
@@ -20,15 +23,28 @@ struct Args {
     #[arg(long, default_value = "127.0.0.1:9090", value_parser = listen_address)]
     listen: SocketAddr,
     /// The settings file with the modules' default policies and the limits (by default the
-    /// repository's, at the path it had when the node was built).
-    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../config/cooperation.param.yaml"))]
-    settings: PathBuf,
+    /// repository's config/cooperation.param.yaml, built into the node).
+    #[arg(long)]
+    settings: Option<PathBuf>,
     /// Periodic publications of the factors per second (they are also published on change).
     #[arg(long, default_value_t = 5.0)]
     rate: f64,
-    /// At most this many clients at once.
+    /// At most this many clients at once, when the node has no credentials.
     #[arg(long, default_value_t = 256)]
     max_clients: usize,
+    /// The credentials file: one operator or planning module a line, with its token; a client
+    /// must present one (docs/server.md, "Who may connect").
+    #[arg(long, value_name = "FILE")]
+    credentials: Option<PathBuf>,
+    /// Connections each credential may have open at once.
+    #[arg(long, default_value_t = 4)]
+    per_credential: usize,
+    /// Serve any client without a credential on an address other than loopback.
+    #[arg(long)]
+    anonymous: bool,
+    /// Live scenes each RTC interface may hold.
+    #[arg(long, default_value_t = cooperation_server::node::SCENE_QUOTA)]
+    scene_quota: usize,
     /// An origin (`scheme://host[:port]`) whose pages may open a WebSocket to the node, besides
     /// the node's own panel; repeat for more. A browser page of any other origin is refused.
     #[arg(long = "allow-origin", value_name = "ORIGIN")]
@@ -75,16 +91,48 @@ async fn run(args: Args) -> Result<(), String> {
             args.rate
         ));
     }
-    let text = std::fs::read_to_string(&args.settings)
-        .map_err(|error| format!("{}: {error}", args.settings.display()))?;
-    let config = cooperation_ros::settings::parse(&text)
-        .map_err(|error| format!("{}: {error}", args.settings.display()))?;
-    let node = Node::new(config).map_err(|error| error.to_string())?;
+    let (text, source) = match &args.settings {
+        Some(path) => (
+            std::fs::read_to_string(path)
+                .map_err(|error| format!("{}: {error}", path.display()))?,
+            path.display().to_string(),
+        ),
+        None => (
+            DEFAULT_SETTINGS.to_owned(),
+            "the built-in settings".to_owned(),
+        ),
+    };
+    let config =
+        cooperation_ros::settings::parse(&text).map_err(|error| format!("{source}: {error}"))?;
+    let credentials = match &args.credentials {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|error| format!("{}: {error}", path.display()))?;
+            let rtc = cooperation_ros::rtc::Rtc::standard();
+            let interfaces: Vec<&str> = rtc.bindings().iter().map(|b| b.name.as_str()).collect();
+            Some(
+                Credentials::parse(&text, &interfaces, args.per_credential)
+                    .map_err(|error| format!("{}: {error}", path.display()))?,
+            )
+        }
+        None => None,
+    };
+    if credentials.is_none() && !args.listen.ip().is_loopback() && !args.anonymous {
+        return Err(format!(
+            "--listen {}: a node reachable from other hosts lets any client act as the operator \
+             or as any planning module unless it has credentials; give --credentials FILE, or \
+             --anonymous to serve every client anyway",
+            args.listen
+        ));
+    }
+    let node =
+        Node::with_scene_quota(config, args.scene_quota).map_err(|error| error.to_string())?;
     let publish_every = Duration::try_from_secs_f64(1.0 / args.rate)
         .map_err(|error| format!("--rate {}: {error}", args.rate))?;
     let options = Options {
         publish_every,
         max_clients: args.max_clients,
+        credentials,
         access: Access {
             origins: args.allow_origins,
             hosts: args.allow_hosts,
@@ -93,16 +141,20 @@ async fn run(args: Args) -> Result<(), String> {
     };
     if let Some(problem) = options.problem() {
         return Err(format!(
-            "--rate {} --max-clients {}: {problem}",
-            args.rate, args.max_clients
+            "--rate {} --max-clients {} --per-credential {}: {problem}",
+            args.rate, args.max_clients, args.per_credential
         ));
     }
     let listener = cooperation_server::bind(args.listen)
         .await
         .map_err(|error| format!("cannot listen on {}: {error}", args.listen))?;
     tracing::info!(
-        "serving rosbridge on ws://{0}/ and the operator panel on http://{0}/",
-        args.listen
+        "serving rosbridge on ws://{0}/ and the operator panel on http://{0}/ ({1})",
+        args.listen,
+        match &args.credentials {
+            Some(_) => "clients present a credential",
+            None => "any client may act as the operator or as any planning module",
+        }
     );
     let shutdown = async {
         let _ = tokio::signal::ctrl_c().await;

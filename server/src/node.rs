@@ -113,17 +113,30 @@ fn send_newer(topic: &watch::Sender<Publication>, publication: Publication) {
     });
 }
 
+/// The live scenes each RTC interface may hold, unless told otherwise.
+pub const SCENE_QUOTA: usize = 256;
+
 impl Node {
-    /// A node over a new core with `config`, and the standard RTC interfaces.
+    /// A node over a new core with `config`, and the standard RTC interfaces, each holding at
+    /// most [`SCENE_QUOTA`] live scenes.
     ///
     /// # Errors
     /// The core's refusal of the configuration.
     pub fn new(config: Config) -> Result<Self, ConfigError> {
+        Self::with_scene_quota(config, SCENE_QUOTA)
+    }
+
+    /// As [`new`](Self::new), each RTC interface holding at most `quota` live scenes
+    /// ([`Rtc::with_scene_quota`]).
+    ///
+    /// # Errors
+    /// The core's refusal of the configuration.
+    pub fn with_scene_quota(config: Config, quota: usize) -> Result<Self, ConfigError> {
         let state = State::new(config)?;
         let (velocity, _) = watch::channel(Publication::default());
         let (steering, _) = watch::channel(Publication::default());
         let node = Self {
-            shared: Shared::new(Host::new(state, Rtc::standard())),
+            shared: Shared::new(Host::new(state, Rtc::standard().with_scene_quota(quota))),
             clock: Clock::start(),
             revision: AtomicU64::new(0),
             velocity,
@@ -231,15 +244,17 @@ impl Node {
     pub fn sync(&self, request: &SyncRequest) -> SyncResponse {
         let stamp = self.clock.stamp();
         let now_ms = self.clock.elapsed_ms();
-        let (response, changed) = self.shared.update(|host| {
+        let (response, shown) = self.shared.update(|host| {
             let expired = catch_up(host, now_ms);
-            let (response, changed) = sync::answer(host, request, stamp);
-            if changed || expired {
+            let (response, effect) = sync::answer(host, request, stamp);
+            if effect.changed || expired {
                 self.count_change();
             }
-            (response, changed || expired)
+            (response, effect.shown || expired)
         });
-        if changed {
+        // A report that changed nothing the streams show (the same status again) waits for
+        // the periodic publication.
+        if shown {
             self.publish_soon();
         }
         response

@@ -1,30 +1,48 @@
 //! The rosbridge v2 protocol: what a text frame asks, and the frames that answer it.
 //!
-//! The node answers `call_service`, `subscribe` and `unsubscribe`. Anything it cannot do is
-//! answered with a `status` frame at level `error` that names the problem and echoes the
-//! request's `id`; a `call_service` that fails is also answered with a `service_response`
-//! whose `result` is `false`, so a client waiting for it is not left waiting.
+//! The node answers `call_service`, `subscribe` and `unsubscribe`, within what the
+//! connection's [`Grant`] lets it do. Anything it cannot do is answered with a `status` frame at
+//! level `error` that names the problem and echoes the request's `id`; a `call_service` that
+//! fails is also answered with a `service_response` whose `result` is `false`, so a client
+//! waiting for it is not left waiting. No field of a request is ignored silently: one the node
+//! does not support (`compression` other than `none`, `fragment_size`) is refused, and a
+//! `queue_length` over 1 is answered with a `status` at level `warning` saying what is done.
+
+use std::time::Duration;
 
 use cooperation_ros::wire::Service;
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
+use crate::auth::Grant;
 use crate::node::{Node, Topic};
-use crate::sync;
+use crate::{rosapi, sync};
 
 /// What the connection does after a frame.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub enum Action {
     /// Send this frame to the client.
     Send(String),
-    /// Start sending the topic's publications.
-    Subscribe(Topic),
-    /// Stop.
-    Unsubscribe(Topic),
+    /// A subscription to the topic, by its `id` (the JSON text of the `id`, `None` without),
+    /// sent at most once per `throttle`.
+    Subscribe {
+        /// The topic.
+        topic: Topic,
+        /// The subscription's `id`.
+        id: Option<String>,
+        /// Its `throttle_rate`.
+        throttle: Duration,
+    },
+    /// The end of the subscription `id` to the topic; of every one of them without an `id`.
+    Unsubscribe {
+        /// The topic.
+        topic: Topic,
+        /// The subscription's `id`.
+        id: Option<String>,
+    },
 }
 
-/// The fields of a rosbridge frame the node reads; others (`compression`, `throttle_rate`,
-/// `queue_length`, `fragment_size`) are accepted and not used.
+/// The fields of a rosbridge frame the node reads; others are not read.
 #[derive(Deserialize)]
 struct Envelope<'a> {
     op: String,
@@ -38,6 +56,32 @@ struct Envelope<'a> {
     r#type: Option<String>,
     #[serde(borrow, default)]
     args: Option<&'a RawValue>,
+    /// Milliseconds between publications, at least.
+    #[serde(default)]
+    throttle_rate: Option<u64>,
+    #[serde(default)]
+    queue_length: Option<u64>,
+    #[serde(default)]
+    compression: Option<String>,
+    #[serde(default)]
+    fragment_size: Option<u64>,
+}
+
+impl Envelope<'_> {
+    /// Why the frame asks for something the node does not do: a compression other than
+    /// `none`, or fragments.
+    fn unsupported(&self) -> Option<String> {
+        if let Some(compression) = self.compression.as_deref() {
+            if !compression.is_empty() && compression != "none" {
+                return Some(format!(
+                    "compression {compression:?}: this node sends JSON text only (compression \"none\")"
+                ));
+            }
+        }
+        self.fragment_size.map(|size| {
+            format!("fragment_size {size}: this node sends every message whole; leave fragment_size out")
+        })
+    }
 }
 
 #[derive(Serialize)]
@@ -62,9 +106,13 @@ struct ServiceResponse<'a, V: Serialize + ?Sized> {
 /// A `status` frame at level `error`.
 #[must_use]
 pub fn error_status(msg: &str, id: Option<&RawValue>) -> String {
+    status("error", msg, id)
+}
+
+fn status(level: &'static str, msg: &str, id: Option<&RawValue>) -> String {
     let status = Status {
         op: "status",
-        level: "error",
+        level,
         msg,
         id,
     };
@@ -76,7 +124,7 @@ const SYNC: (&str, &str) = (sync::NAME, sync::TYPE);
 
 /// Whether a type a client names is `expected`, in ROS 2 form (`pkg/msg/Name`) or ROS 1 form
 /// (`pkg/Name`).
-fn same_type(given: &str, expected: &str) -> bool {
+pub(crate) fn same_type(given: &str, expected: &str) -> bool {
     given == expected || given == expected.replacen("/msg/", "/", 1).replacen("/srv/", "/", 1)
 }
 
@@ -139,7 +187,7 @@ fn is_object(frame: &str) -> bool {
 /// state it made: send the answer once the streams show it ([`Node::published`]), so that
 /// the client's next publication shows its change.
 #[must_use]
-pub fn handle(node: &Node, frame: &str) -> (Vec<Action>, Option<u64>) {
+pub fn handle(node: &Node, frame: &str, grant: &Grant) -> (Vec<Action>, Option<u64>) {
     if !is_object(frame) {
         let msg = match serde_json::from_str::<&RawValue>(frame) {
             Ok(_) => "not a rosbridge frame: a frame is a JSON object".to_owned(),
@@ -159,7 +207,7 @@ pub fn handle(node: &Node, frame: &str) -> (Vec<Action>, Option<u64>) {
         }
     };
     if envelope.op == "call_service" {
-        return call_service(node, &envelope);
+        return call_service(node, &envelope, grant);
     }
     (others(&envelope), None)
 }
@@ -188,12 +236,35 @@ fn others(envelope: &Envelope<'_>) -> Vec<Action> {
                     ));
                 }
             }
-            if envelope.op == "subscribe" {
-                vec![Action::Subscribe(topic)]
-            } else {
-                vec![Action::Unsubscribe(topic)]
+            let sub_id = id.map(|id| id.get().to_owned());
+            if envelope.op == "unsubscribe" {
+                return vec![Action::Unsubscribe { topic, id: sub_id }];
             }
+            if let Some(unsupported) = envelope.unsupported() {
+                return refuse(&unsupported);
+            }
+            let mut actions = Vec::new();
+            if let Some(length) = envelope.queue_length.filter(|length| *length > 1) {
+                actions.push(Action::Send(status(
+                    "warning",
+                    &format!(
+                        "queue_length {length}: this node keeps only the newest publication of a \
+                         topic for each subscriber, as queue_length 1"
+                    ),
+                    id,
+                )));
+            }
+            actions.push(Action::Subscribe {
+                topic,
+                id: sub_id,
+                throttle: Duration::from_millis(envelope.throttle_rate.unwrap_or(0)),
+            });
+            actions
         }
+        "auth" => refuse(
+            "op \"auth\": this node takes a credential when the WebSocket opens, as an \
+             Authorization: Bearer header or the URL's token parameter (docs/server.md)",
+        ),
         "advertise" | "unadvertise" | "publish" => refuse(&format!(
             "op {:?}: this node takes no publications; planning modules call {:?}",
             envelope.op,
@@ -205,12 +276,33 @@ fn others(envelope: &Envelope<'_>) -> Vec<Action> {
     }
 }
 
-fn call_service(node: &Node, envelope: &Envelope<'_>) -> (Vec<Action>, Option<u64>) {
+fn call_service(node: &Node, envelope: &Envelope<'_>, grant: &Grant) -> (Vec<Action>, Option<u64>) {
     let id = envelope.id;
     let name = envelope.service.as_deref().unwrap_or_default();
     let failed = |msg: &str| (failed_call(name, id, msg), None);
     if envelope.service.is_none() {
         return failed("call_service without a service");
+    }
+    if let Some(unsupported) = envelope.unsupported() {
+        return failed(&unsupported);
+    }
+    let args = envelope.args.map_or("{}", RawValue::get).as_bytes();
+    // An empty argument list is how some clients write an empty request.
+    let args = if args == b"[]" {
+        b"{}".as_slice()
+    } else {
+        args
+    };
+    if rosapi::SERVICES.contains(&name) {
+        let given = envelope.r#type.as_deref().unwrap_or_default();
+        if !rosapi::same_type(name, given) {
+            return failed(&format!("service {name:?} has no type {given:?}"));
+        }
+        return match rosapi::answer(name, args) {
+            Some(Ok(values)) => (vec![respond(name, id, &values)], None),
+            Some(Err(message)) => failed(&message),
+            None => failed(&format!("no service {name:?}")),
+        };
     }
     let ad_api = Service::from_name(name);
     let type_name = match ad_api {
@@ -219,9 +311,10 @@ fn call_service(node: &Node, envelope: &Envelope<'_>) -> (Vec<Action>, Option<u6
         None => {
             let known: Vec<&str> = Service::ALL.iter().map(|s| s.name()).collect();
             return failed(&format!(
-                "no service {name:?}: this node answers {}, and {:?} for planning modules",
+                "no service {name:?}: this node answers {}, {:?} for planning modules, and {}",
                 known.join(", "),
-                SYNC.0
+                SYNC.0,
+                rosapi::SERVICES.join(", ")
             ));
         }
     };
@@ -232,13 +325,10 @@ fn call_service(node: &Node, envelope: &Envelope<'_>) -> (Vec<Action>, Option<u6
             ));
         }
     }
-    let args = envelope.args.map_or("{}", RawValue::get).as_bytes();
-    // An empty argument list is how some clients write an empty request.
-    let args = if args == b"[]" {
-        b"{}".as_slice()
-    } else {
-        args
-    };
+    if let Err(refusal) = grant.may_call(name) {
+        tracing::warn!("a call refused: {refusal}");
+        return failed(&refusal);
+    }
     // Each request is read before the core's lock is taken, and its response written once,
     // inside the frame that carries it.
     match ad_api {
@@ -251,7 +341,13 @@ fn call_service(node: &Node, envelope: &Envelope<'_>) -> (Vec<Action>, Option<u6
         },
         None => {
             let response = match sync::read(args) {
-                Ok(request) => node.sync(&request),
+                Ok(request) => match grant.may_report(&request.interface) {
+                    Ok(()) => node.sync(&request),
+                    Err(refusal) => {
+                        tracing::warn!("a sync refused: {refusal}");
+                        sync::refused(refusal)
+                    }
+                },
                 Err(message) => sync::refused(message),
             };
             (vec![respond(name, id, &response)], None)

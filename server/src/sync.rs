@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use cooperation::{SceneId, Sequence};
+use cooperation::{Scene, SceneId, Sequence};
 use cooperation_ros::rtc::{CooperateStatus, CooperateStatusArray, RtcError, Uuid};
 use cooperation_ros::{Host, Time};
 use serde::{Deserialize, Serialize};
@@ -86,21 +86,45 @@ pub struct Activation {
     pub force_deactivated: bool,
 }
 
-/// A request's answer from the core, and whether anything changed.
-pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, bool) {
+/// What a sync did to the core.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct Effect {
+    /// The core changed (a report also renews its scene's time to live).
+    pub changed: bool,
+    /// A change the factor streams show: a scene registered, retired, or reported with
+    /// anything other than its age different. Only this is worth a publication of its own.
+    pub shown: bool,
+}
+
+/// What the factor streams show of a scene: everything but its age.
+fn shown(scene: &Scene) -> impl PartialEq + '_ {
+    (
+        scene.module(),
+        scene.phase(),
+        scene.module_decision(),
+        scene.operator_decision(),
+        scene.is_requested(),
+        scene.geometry(),
+        scene.detail(),
+    )
+}
+
+/// A request's answer from the core, and what it did.
+pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, Effect) {
     let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
-        Err(error) => return (refused(error.to_string()), false),
+        Err(error) => return (refused(error.to_string()), Effect::default()),
     };
     let sequences: BTreeMap<Uuid, Sequence> = request
         .sequences
         .iter()
         .map(|stated| (stated.uuid, stated.sequence))
         .collect();
-    let mut changed = false;
+    let mut effect = Effect::default();
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
     for status in &request.statuses {
         let stated = sequences.get(&status.uuid).copied();
+        let before = interface.view().scene(SceneId::from(status.uuid)).cloned();
         let outcome = status
             .report()
             .map_err(RtcError::from)
@@ -110,14 +134,20 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
             })
             .and_then(|report| interface.update_cooperate_status(&report))
             .map(drop);
-        changed |= outcome.is_ok();
+        if outcome.is_ok() {
+            effect.changed = true;
+            let view = interface.view();
+            let after = view.scene(SceneId::from(status.uuid));
+            effect.shown |= before.as_ref().map(shown) != after.map(shown);
+        }
         results.push(result(status.uuid, outcome));
     }
     for &uuid in &request.removed {
         let outcome = interface
             .remove_cooperate_status(SceneId::from(uuid))
             .map(drop);
-        changed |= outcome.is_ok();
+        effect.changed |= outcome.is_ok();
+        effect.shown |= outcome.is_ok();
         results.push(result(uuid, outcome));
     }
     let view = interface.view();
@@ -142,7 +172,7 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         statuses,
         activations,
     };
-    (response, changed)
+    (response, effect)
 }
 
 fn result<E: ToString>(uuid: Uuid, outcome: Result<(), E>) -> SyncResult {

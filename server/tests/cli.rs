@@ -59,5 +59,52 @@ fn a_node_that_cannot_start_says_why() {
     let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
     let address = taken.local_addr().expect("its address").to_string();
     refused(&["--listen", &address], "cannot listen on");
+    // Reachable from other hosts with no credentials: not unless told.
+    refused(
+        &["--listen", "0.0.0.0:0"],
+        "give --credentials FILE, or --anonymous",
+    );
+    refused(
+        &["--listen", "0.0.0.0:0", "--anonymous", "--max-clients", "0"],
+        "0 clients: give from 1 to",
+    );
+    let credentials = dir.join("credentials");
+    std::fs::write(&credentials, "# the operator\noperator panel short\n").expect("written");
+    let credentials = credentials.to_str().expect("UTF-8");
+    refused(
+        &["--listen", "0.0.0.0:0", "--credentials", credentials],
+        "credentials: line 2: the token of \"panel\" must have at least 24 characters",
+    );
+    refused(
+        &[
+            "--listen",
+            "127.0.0.1:0",
+            "--credentials",
+            "/nonexistent/credentials",
+        ],
+        "/nonexistent/credentials",
+    );
     std::fs::remove_dir_all(&dir).expect("removed");
+}
+
+/// The node needs no file from the tree it was built in: its default settings are built in,
+/// and its help names no path of the build.
+#[test]
+fn the_default_settings_are_built_in() {
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-server"))
+        .arg("--help")
+        .output()
+        .expect("the binary runs");
+    let help = String::from_utf8_lossy(&output.stdout);
+    assert!(help.contains("--settings"), "{help}");
+    assert!(!help.contains(env!("CARGO_MANIFEST_DIR")), "{help}");
+    // Started from elsewhere, with no --settings, it reads its settings and gets as far as
+    // its other options.
+    let output = Command::new(env!("CARGO_BIN_EXE_cooperation-server"))
+        .args(["--listen", "127.0.0.1:0", "--max-clients", "0"])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .expect("the binary runs");
+    let log = String::from_utf8_lossy(&output.stderr);
+    assert!(log.contains("0 clients: give from 1 to"), "{log}");
 }

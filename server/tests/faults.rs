@@ -6,12 +6,12 @@ mod common;
 
 use std::time::{Duration, Instant};
 
-use common::{operator_decision, serve, status, Client, WAIT};
+use common::{operator_decision, serve, serve_quota, status, Client, WAIT};
 use cooperation_server::{Limits, Options};
 use serde_json::json;
 
 /// Scenes 1 to 500 of the `intersection` interface, registered by a module that then leaves
-/// (they live for the settings' 10 s).
+/// (they live for the settings' 10 s); serve with [`serve_quota`] of 500 for them.
 async fn five_hundred_scenes(url: &str) {
     let mut module = Client::connect(url).await;
     for batch in 0..5_u128 {
@@ -92,11 +92,14 @@ async fn a_stalled_subscriber_is_disconnected_and_others_are_served_meanwhile() 
         write_timeout: Duration::from_millis(500),
         ..Limits::default()
     };
-    let served = serve(Options {
-        publish_every: Duration::from_millis(10),
-        limits,
-        ..Options::default()
-    })
+    let served = serve_quota(
+        Options {
+            publish_every: Duration::from_millis(10),
+            limits,
+            ..Options::default()
+        },
+        500,
+    )
     .await;
     // Big publications, to fill the stalled client's socket buffers quickly.
     five_hundred_scenes(&served.url).await;
@@ -140,10 +143,13 @@ async fn a_stalled_subscriber_is_disconnected_and_others_are_served_meanwhile() 
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_slow_subscriber_skips_publications_and_each_is_whole_and_current() {
-    let served = serve(Options {
-        publish_every: Duration::from_millis(5),
-        ..Options::default()
-    })
+    let served = serve_quota(
+        Options {
+            publish_every: Duration::from_millis(5),
+            ..Options::default()
+        },
+        500,
+    )
     .await;
     // 500 scenes: publications of about 90 KB, 200 a second.
     five_hundred_scenes(&served.url).await;

@@ -3,7 +3,7 @@
 //! caller is left waiting (`docs/server.md`, *The protocol*).
 
 use cooperation_server::rosbridge::{handle, Action};
-use cooperation_server::Node;
+use cooperation_server::{Credentials, Grant, Node};
 use proptest::prelude::*;
 use serde_json::{json, Value};
 
@@ -75,13 +75,32 @@ fn frame() -> impl Strategy<Value = Value> {
         })
 }
 
+/// A connection without a credential, an operator's and a planning module's.
+fn grants() -> [Grant; 3] {
+    let credentials = Credentials::parse(
+        "operator panel abcdefghijklmnopqrstuvwxyz012345\n\
+         module lanes bcdefghijklmnopqrstuvwxyz0123456 lane_change_left",
+        &["lane_change_left"],
+        1,
+    )
+    .expect("credentials");
+    let [operator, module] = credentials.list() else {
+        panic!("two credentials")
+    };
+    [
+        Grant::Anyone,
+        Grant::Credential(operator.clone()),
+        Grant::Credential(module.clone()),
+    ]
+}
+
 /// Every frame the node sends back, as JSON.
 fn sent(actions: &[Action]) -> Vec<Value> {
     actions
         .iter()
         .filter_map(|action| match action {
             Action::Send(text) => Some(serde_json::from_str(text).expect("the node sends JSON")),
-            Action::Subscribe(_) | Action::Unsubscribe(_) => None,
+            Action::Subscribe { .. } | Action::Unsubscribe { .. } => None,
         })
         .collect()
 }
@@ -90,10 +109,10 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
     #[test]
-    fn every_frame_is_answered_and_every_call_gets_its_response(frame in frame()) {
+    fn every_frame_is_answered_and_every_call_gets_its_response(frame in frame(), grant in 0..3usize) {
         let node = node();
         let text = frame.to_string();
-        let (actions, _) = handle(&node, &text);
+        let (actions, _) = handle(&node, &text, &grants()[grant]);
         prop_assert!(!actions.is_empty(), "no answer to {text}");
         let sent = sent(&actions);
         let is_call = frame.get("op") == Some(&json!("call_service"));
@@ -109,8 +128,8 @@ proptest! {
     }
 
     #[test]
-    fn any_text_is_answered_without_panicking(text in ".{0,64}") {
+    fn any_text_is_answered_without_panicking(text in ".{0,64}", grant in 0..3usize) {
         let node = node();
-        prop_assert!(!handle(&node, &text).0.is_empty(), "no answer to {:?}", text);
+        prop_assert!(!handle(&node, &text, &grants()[grant]).0.is_empty(), "no answer to {:?}", text);
     }
 }

@@ -417,7 +417,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut config =
         cooperation_ros::settings::parse(include_str!("../../../config/cooperation.param.yaml"))?;
     config.limits.max_scenes = config.limits.max_scenes.max(SCENES);
-    let node = Arc::new(Node::new(config)?);
+    let node = Arc::new(Node::with_scene_quota(config, SCENES)?);
     let per_interface = SCENES.div_ceil(INTERFACES.len());
     for (at, interface) in INTERFACES.iter().enumerate() {
         let indices = at * per_interface..((at + 1) * per_interface).min(SCENES);
@@ -446,6 +446,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         publish_every: Duration::from_secs(3_600),
         tick_every: Duration::from_secs(3_600),
         max_clients: 512,
+        // Every client is on loopback, one address.
+        admission: cooperation_server::Admission {
+            per_peer: 512,
+            ..cooperation_server::Admission::default()
+        },
         ..Options::default()
     };
     server.spawn(cooperation_server::serve(

@@ -24,6 +24,13 @@ const SETTINGS = path.resolve(HERE, '../../../config/cooperation.param.yaml');
 const STEP_MS = 5000; // the longest any one step may wait
 const TOTAL_MS = 50000; // the whole run
 const RESYNC_MS = 500; // a module's planning cycle, well inside the node's 10 s TTL
+// The node runs with credentials: the panel gets the operator's token in its address, the
+// module presents its own, bound to the interfaces it reports for.
+const OPERATOR_TOKEN = 'panel-test-operator-0123456789abcdef';
+const MODULE_TOKEN = 'panel-test-module-0123456789abcdefgh';
+const CREDENTIALS = `operator panel ${OPERATOR_TOKEN}
+module planner ${MODULE_TOKEN} lane_change_left intersection crosswalk traffic_light
+`;
 
 const DEACTIVATE = 1;
 const ACTIVATE = 2;
@@ -115,7 +122,9 @@ async function startServer(binary) {
   for (let attempt = 1; ; attempt++) {
     const port = await freePort();
     const output = [];
-    const child = spawn(binary, ['--listen', `127.0.0.1:${port}`, '--settings', SETTINGS], {
+    const credentials = path.join(mkdtempSync(path.join(os.tmpdir(), 'credentials-')), 'credentials');
+    writeFileSync(credentials, CREDENTIALS, { mode: 0o600 });
+    const child = spawn(binary, ['--listen', `127.0.0.1:${port}`, '--settings', SETTINGS, '--credentials', credentials], {
       stdio: ['ignore', 'pipe', 'pipe'],
       env: { ...process.env, NO_COLOR: '1', RUST_LOG: process.env.RUST_LOG || 'info' },
     });
@@ -154,7 +163,7 @@ async function stopServer(server) {
 
 class Module {
   constructor(port) {
-    this.url = `ws://127.0.0.1:${port}/`;
+    this.url = `ws://127.0.0.1:${port}/?token=${MODULE_TOKEN}`;
     this.scenes = new Map(); // hex -> scene, re-synced every cycle
     this.responses = new Map(); // interface -> the last sync response
     this.errors = [];
@@ -297,7 +306,17 @@ async function run(state) {
     });
   });
 
-  await page.goto(`http://127.0.0.1:${port}/`, { timeout: STEP_MS });
+  // Without the operator's token the panel does not connect, and says what it needs.
+  const tokenless = await state.browser.newPage();
+  await tokenless.goto(`http://127.0.0.1:${port}/`, { timeout: STEP_MS });
+  await pageUntil(tokenless, 'a panel without a token says it needs one', () => {
+    const indicator = document.getElementById('connection');
+    return indicator.dataset.state === 'disconnected' && indicator.textContent.includes('#token=');
+  });
+  await tokenless.close();
+  log('a panel without a token is not let in, and says it needs one');
+
+  await page.goto(`http://127.0.0.1:${port}/#token=${OPERATOR_TOKEN}`, { timeout: STEP_MS });
   await pageUntil(page, 'the connection indicator says connected',
     () => document.getElementById('connection').dataset.state === 'connected');
   log('the page is connected');
@@ -312,7 +331,8 @@ async function run(state) {
     socket.onerror = () => resolve('refused');
     setTimeout(() => resolve('no answer'), 4000);
   });
-  const nodeUrl = `ws://127.0.0.1:${port}/`;
+  // Even with the operator's token, a page of another origin is refused.
+  const nodeUrl = `ws://127.0.0.1:${port}/?token=${OPERATOR_TOKEN}`;
   const own = await page.evaluate(tryConnect, nodeUrl);
   if (own !== 'open') throw new Failure(`the panel's own page could not open a second WebSocket: ${own}`);
   state.strangerServer = http.createServer((_, response) => {

@@ -36,8 +36,16 @@ impl Drop for Served {
 
 /// Serves a node with the default settings and these options.
 pub async fn serve(options: Options) -> Served {
+    serve_quota(options, cooperation_server::node::SCENE_QUOTA).await
+}
+
+/// Serves a node with the default settings, each RTC interface holding at most `quota` live
+/// scenes.
+pub async fn serve_quota(options: Options, quota: usize) -> Served {
     let config = cooperation_ros::settings::parse(SETTINGS).expect("the default settings read");
-    let node = Arc::new(Node::new(config).expect("the default settings are a configuration"));
+    let node = Arc::new(
+        Node::with_scene_quota(config, quota).expect("the default settings are a configuration"),
+    );
     let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
         .await
         .expect("a loopback port");
@@ -91,6 +99,29 @@ impl Client {
             .expect("connected in time")
             .expect("connected");
         Self { ws, next_id: 0 }
+    }
+
+    /// Connects presenting `bearer` in an `Authorization` header: the client, or the HTTP
+    /// status it was refused with.
+    pub async fn connect_as(url: &str, bearer: Option<&str>) -> Result<Self, u16> {
+        use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+        let mut request = url.into_client_request().expect("a request");
+        if let Some(token) = bearer {
+            request.headers_mut().insert(
+                "authorization",
+                format!("Bearer {token}").parse().expect("a header"),
+            );
+        }
+        match tokio::time::timeout(WAIT, tokio_tungstenite::connect_async(request))
+            .await
+            .expect("answered in time")
+        {
+            Ok((ws, _)) => Ok(Self { ws, next_id: 0 }),
+            Err(tokio_tungstenite::tungstenite::Error::Http(response)) => {
+                Err(response.status().as_u16())
+            }
+            Err(other) => panic!("{url}: {other}"),
+        }
     }
 
     pub async fn send(&mut self, frame: &Value) {
