@@ -72,6 +72,10 @@ enum Out {
     Topic(Topic, Option<Duration>),
 }
 
+/// The most subscriptions one connection may hold, all topics together: more are refused, so a
+/// client cannot grow the node's memory by subscribing under ever new `id`s.
+pub const MAX_SUBSCRIPTIONS: usize = 64;
+
 /// One connection's subscriptions: for each topic, each subscription's `id` (`None` for one
 /// without) and its `throttle_rate`.
 #[derive(Default)]
@@ -97,7 +101,21 @@ impl Subscriptions {
                 id,
                 throttle,
             } => {
-                self.topics.insert((Self::key(topic), id), throttle);
+                let key = (Self::key(topic), id);
+                if !self.topics.contains_key(&key) && self.topics.len() >= MAX_SUBSCRIPTIONS {
+                    tracing::warn!(
+                        "a subscription refused: the connection holds {MAX_SUBSCRIPTIONS}"
+                    );
+                    let msg = format!(
+                        "a connection may hold {MAX_SUBSCRIPTIONS} subscriptions; unsubscribe one first"
+                    );
+                    let id = key
+                        .1
+                        .as_deref()
+                        .and_then(|id| serde_json::from_str(id).ok());
+                    return Out::Frame(Utf8Bytes::from(rosbridge::error_status(&msg, id)));
+                }
+                self.topics.insert(key, throttle);
                 (topic, Self::key(topic))
             }
             Action::Unsubscribe {

@@ -193,3 +193,40 @@ async fn rosapi_lists_the_topics_and_services_with_their_types() {
     let refused = client.call("/rosapi/get_param", json!({})).await;
     assert_eq!(refused["result"], false, "{refused}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_connection_holds_a_bounded_number_of_subscriptions() {
+    let served = serve(every(3_600_000)).await;
+    let mut client = Client::connect(&served.url).await;
+    let most = cooperation_server::connection::MAX_SUBSCRIPTIONS;
+    for n in 0..most {
+        let id = format!("s{n}");
+        client
+            .send(&json!({"op": "subscribe", "id": id, "topic": VELOCITY}))
+            .await;
+    }
+    client
+        .send(&json!({"op": "subscribe", "id": "over", "topic": VELOCITY}))
+        .await;
+    let status = client.next_op("status").await;
+    assert_eq!(status["id"], "over", "{status}");
+    assert!(
+        status["msg"]
+            .as_str()
+            .is_some_and(|m| m.contains("subscriptions")),
+        "{status}"
+    );
+    // Subscribing again under an id it holds is no new subscription; after an unsubscribe
+    // there is room again.
+    client
+        .send(&json!({"op": "subscribe", "id": "s0", "topic": VELOCITY}))
+        .await;
+    client
+        .send(&json!({"op": "unsubscribe", "id": "s1", "topic": VELOCITY}))
+        .await;
+    client
+        .send(&json!({"op": "subscribe", "id": "again", "topic": VELOCITY}))
+        .await;
+    let nothing = tokio::time::timeout(Duration::from_millis(300), client.next_op("status")).await;
+    assert!(nothing.is_err(), "refused: {nothing:?}");
+}
