@@ -113,8 +113,8 @@ fn sequential() {
 /// The RTC adapter model, two interfaces, two identifiers both live at once; and with four
 /// identifiers, one live and a retired set of one, so that the core forgets and the adapter
 /// must prune its routes to stay within its bound (breadth first, without symmetry: the
-/// retirement order matters); and the avoidance, bound to two sequences, with two identifiers
-/// live at once.
+/// retirement order matters); with a quota of one live scene per interface; and the avoidance,
+/// bound to two sequences, with two identifiers live at once.
 #[test]
 #[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn rtc() {
@@ -147,6 +147,21 @@ fn rtc() {
         &[
             "COOP-OWN-REMOVE.1: a clear retires two scenes",
             "witness: two interfaces have live scenes at once",
+        ],
+    );
+    let quota = RtcBounds {
+        live: 2,
+        quota: Some(1),
+        ..RtcBounds::new(2, 2)
+    };
+    let model = RtcModel::new(quota).expect("valid");
+    satisfied(
+        &model,
+        SETTINGS,
+        Stop::first_violation(),
+        &[
+            "COOP-REG-FULL.1: an update beyond the scene limit is refused",
+            "COOP-OWN-REMOVE.1: a clear retires two scenes",
         ],
     );
     let avoidance = RtcBounds {

@@ -68,6 +68,42 @@ fn two_interfaces_three_scenes() {
     );
 }
 
+/// With a quota of 2 live scenes per interface (`[COOP-DEV-QUOTA.1]`), the two lane changes and
+/// 3 identifiers, 2 live: an interface holding 2 refuses a third, and the scene limit is still
+/// met with one scene on each interface. Every property satisfied, the quota's refusal reached.
+#[test]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
+fn two_interfaces_three_scenes_with_a_quota() {
+    let bounds = RtcBounds {
+        live: 2,
+        quota: Some(2),
+        ..RtcBounds::new(2, 3)
+    };
+    let report = run(bounds, 2, Strategy::Dfs, true);
+    assert_eq!(unsatisfied(&report), Vec::<&str>::new());
+    assert_eq!(report.unique, pins::RTC_QUOTA.unique);
+}
+
+/// A quota of one live scene per interface, two interfaces and two identifiers: each holds at
+/// most one, and every safety property holds; two scenes on one interface, and the scene limit,
+/// are out of reach.
+#[test]
+fn a_quota_of_one_scene_per_interface() {
+    let bounds = RtcBounds {
+        live: 2,
+        quota: Some(1),
+        ..RtcBounds::new(2, 2)
+    };
+    let report = run(bounds, 2, Strategy::Dfs, true);
+    assert_eq!(
+        unsatisfied(&report),
+        [
+            "COOP-REG-FULL.1: an update beyond the scene limit is refused",
+            "COOP-OWN-REMOVE.1: a clear retires two scenes",
+        ]
+    );
+}
+
 /// Three interfaces (the intersection is a module of its own, velocity scenes) and two
 /// identifiers: an auto-mode switch must not reach another module, and a velocity scene
 /// reports one distance twice. Every safety property holds; a scene limit of one leaves two

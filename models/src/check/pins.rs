@@ -177,8 +177,19 @@ pub const RTC_TWO_AVOIDANCES: Pin = Pin {
     generated: None,
 };
 
+/// The RTC model: the two lane-change interfaces, 3 identifiers, 2 live, a quota of 2 live
+/// scenes per interface.
+pub const RTC_QUOTA: Pin = Pin {
+    test: "models/tests/rtc_model.rs::two_interfaces_three_scenes_with_a_quota",
+    model: "rtc, a quota of 2 per interface",
+    bounds: "2 × 3",
+    search: "DFS, symmetry",
+    unique: 2_010_378,
+    generated: None,
+};
+
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 15] = [
+pub const ALL: [Pin; 16] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -194,6 +205,7 @@ pub const ALL: [Pin; 15] = [
     RTC_2X3,
     RTC_AVOIDANCE,
     RTC_TWO_AVOIDANCES,
+    RTC_QUOTA,
 ];
 
 /// The pin of the configuration the reach table names so, if one is pinned.

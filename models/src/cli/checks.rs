@@ -95,6 +95,7 @@ fn run_rtc(options: &Options) -> Result<bool, String> {
         scenes,
         live,
         retired,
+        quota: options.quota,
     };
     let model = RtcModel::new(bounds).map_err(|e| e.to_string())?;
     let model = match fault(options, &RtcFault::ALL)? {
@@ -103,8 +104,11 @@ fn run_rtc(options: &Options) -> Result<bool, String> {
     };
     println!(
         "rtc model: {interfaces} interfaces ({}), {scenes} scene identifiers, at most {live} \
-         live, {retired} retired remembered; {} calls in every state",
+         live, {retired} retired remembered{}; {} calls in every state",
         model.names().join(", "),
+        options.quota.map_or_else(String::new, |quota| format!(
+            ", at most {quota} per interface"
+        )),
         model.alphabet().len()
     );
     check_and_present(&model, options.settings, options)

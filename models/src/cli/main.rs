@@ -9,7 +9,7 @@
 //!                            [--fault NAME] [--out DIR] [--timeout SECONDS] [--summary]
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
 //!                            [--table adaptive|hashed] [--keep-stalled]
-//! cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I] ...
+//! cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I] [--quota Q] ...
 //! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--scenes N] ...
 //! cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
@@ -51,7 +51,8 @@ const USAGE: &str = "usage:
                              [--timeout SECONDS] [--summary] [--keep-going]
                              [--memory-gib G] [--max-states N] [--table adaptive|hashed]
                              [--depth STEPS] [--keep-stalled]
-  cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I] ...
+  cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I]
+                             [--quota Q] ...
   cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
                              [--scenes N] [--threads T] [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
@@ -78,7 +79,8 @@ whole statuses, decisions included, and lets owners abort a scene (complete for 
 with 2 operators it outgrows memory). The rtc model's --modules is its number of interfaces,
 taken in order from lane_change_left, lane_change_right, intersection,
 static_obstacle_avoidance_left and static_obstacle_avoidance_right, from position
---first-interface (default 0; 3 for the avoidances). The check stops at the first violated
+--first-interface (default 0; 3 for the avoidances); --quota Q gives the adapter a quota of Q
+live scenes per interface (none by default). The check stops at the first violated
 `always` property (--keep-going collects every violation), and stops incomplete, with a
 report and exit status 1, when the process reaches 16 GiB resident (--memory-gib) or 400
 million distinct states (--max-states), or the time limit. simulate takes one random walk of

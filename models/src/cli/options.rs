@@ -32,6 +32,7 @@ pub(crate) struct Options {
     pub(crate) bytes: usize,
     pub(crate) operators: usize,
     pub(crate) first_interface: usize,
+    pub(crate) quota: Option<usize>,
     pub(crate) views: Views,
     pub(crate) seeds: std::ops::Range<u64>,
     pub(crate) write: Option<PathBuf>,
@@ -58,6 +59,7 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
     let mut bytes = TrivialModel::REACH.bytes;
     let mut operators = cooperation_models::model::network::OPERATORS;
     let mut first_interface = 0;
+    let mut quota = None;
     let mut views = Views::Identifiers;
     let mut seeds = 0..100;
     let (mut write, mut against) = (None, None);
@@ -112,6 +114,7 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
             "--bytes" => bytes = number()?,
             "--operators" => operators = number()?,
             "--first-interface" => first_interface = number()?,
+            "--quota" => quota = Some(number()?),
             "--views" => {
                 views = match value.as_str() {
                     "ids" => Views::Identifiers,
@@ -184,6 +187,7 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
         bytes,
         operators,
         first_interface,
+        quota,
         views,
         seeds,
         write,

@@ -161,11 +161,11 @@ fn a_cleared_identifier_is_not_registered_again() {
     );
 }
 
-/// With a scene quota, an interface holding its quota of live scenes refuses a new one, changing
-/// nothing, while its live scenes still update and another interface still registers; once one
-/// of its scenes is removed, a new one registers.
+/// `[COOP-DEV-QUOTA.1]`: with a scene quota, an interface holding its quota of live scenes
+/// refuses a new one, changing nothing, while its live scenes still update and another
+/// interface still registers; once one of its scenes is removed, a new one registers.
 #[test]
-fn an_interface_at_its_scene_quota_refuses_a_new_scene_and_nothing_else() {
+fn coop_dev_quota_1() {
     let mut fx = Fixture::new(false);
     fx.rtc = fx.rtc.clone().with_scene_quota(2);
     assert_eq!(fx.rtc.scene_quota(), Some(2));

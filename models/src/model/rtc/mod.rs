@@ -90,6 +90,10 @@ pub struct RtcBounds {
     pub live: usize,
     /// The retired capacity.
     pub retired: usize,
+    /// The adapter's quota of live scenes per interface, if it has one
+    /// (`Rtc::with_scene_quota`, `[COOP-DEV-QUOTA.1]`).
+    #[serde(default)]
+    pub quota: Option<usize>,
 }
 
 impl RtcBounds {
@@ -103,6 +107,7 @@ impl RtcBounds {
             scenes,
             live: scenes.saturating_sub(1).max(1),
             retired: scenes,
+            quota: None,
         }
     }
 
@@ -112,6 +117,15 @@ impl RtcBounds {
         self.first_interface = first;
         self
     }
+}
+
+/// The adapter as the library ships it, over `bindings`, with the quota if there is one.
+fn adapter(bindings: &[Binding], quota: Option<usize>) -> Result<Rtc, ModelError> {
+    let rtc = Rtc::new(bindings.to_vec()).map_err(|e| ModelError::Bounds(e.to_string()))?;
+    Ok(match quota {
+        Some(quota) => rtc.with_scene_quota(quota),
+        None => rtc,
+    })
 }
 
 /// The RTC model.
@@ -142,6 +156,7 @@ impl RtcModel {
             scenes,
             live,
             retired,
+            quota,
         } = bounds;
         let most = INTERFACES.len().saturating_sub(first_interface);
         if !(1..=most).contains(&interfaces) {
@@ -155,9 +170,9 @@ impl RtcModel {
                 "scenes must be 1 to {MAX_SMALL_SCENES}"
             )));
         }
-        if live == 0 || retired == 0 {
+        if live == 0 || retired == 0 || quota == Some(0) {
             return Err(ModelError::Bounds(
-                "the live and retired limits must be at least 1".into(),
+                "the live and retired limits and the quota must be at least 1".into(),
             ));
         }
         // Upstream's interfaces, as the adapter ships them, by name.
@@ -174,7 +189,7 @@ impl RtcModel {
                     .cloned()
             })
             .collect();
-        let rtc = Rtc::new(bindings.clone()).map_err(|e| ModelError::Bounds(e.to_string()))?;
+        let rtc = adapter(&bindings, quota)?;
         let limits = Limits {
             ttl_ms: 1,
             max_scenes: live,
@@ -278,7 +293,7 @@ impl RtcModel {
     pub fn initial(&self) -> Result<RtcStep, ModelError> {
         let core =
             State::new(self.config.clone()).map_err(|e| ModelError::Bounds(e.to_string()))?;
-        let rtc = Rtc::new(self.bindings.clone()).map_err(|e| ModelError::Bounds(e.to_string()))?;
+        let rtc = adapter(&self.bindings, self.bounds.quota)?;
         let order_matters = self.bounds.retired < self.bounds.scenes;
         Ok(RtcStep::new(Arc::new(core), Arc::new(rtc), order_matters))
     }
@@ -527,7 +542,7 @@ impl Model for RtcModel {
     }
 
     fn properties(&self) -> Vec<Property<Self>> {
-        let mut all = properties_for(self.has_sequences());
+        let mut all = properties_for(self.has_sequences(), self.bounds.quota.is_some());
         if let Some(focus) = self.focus {
             all.retain(|p| p.name == focus);
         }

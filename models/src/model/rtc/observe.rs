@@ -187,6 +187,28 @@ fn sequence_refusal(model: &RtcModel, from: &RtcStep, call: &Call) -> Option<Ref
     }
 }
 
+/// Whether a step kept the interfaces' quota as `[COOP-DEV-QUOTA.1]` says: a scene that was
+/// not live registers only through an interface holding fewer live scenes than the quota (as
+/// the model counts them, by the interface whose update registered each), and a refusal for the
+/// quota is given only to such a scene through an interface holding the quota.
+fn quota_kept(model: &RtcModel, from: &RtcStep, call: &Call, said: &Said, to: &RtcStep) -> bool {
+    let Call::Update { interface, id, .. } = call else {
+        return said.outcome.answer != Answer::Refused(Refusal::Quota);
+    };
+    let held = from
+        .core
+        .scenes()
+        .filter(|(live, _)| from.registrar(*live).map(usize::from) == Some(*interface))
+        .count();
+    let full = model.bounds().quota.is_some_and(|quota| held >= quota);
+    let new = from.core.scene(*id).is_none();
+    let registered = new && to.core.scene(*id).is_some();
+    match said.outcome.answer {
+        Answer::Refused(Refusal::Quota) => new && full,
+        _ => !(registered && full),
+    }
+}
+
 /// The flags the step from `from` by `call` (answering `said`) to `to` breaks, and the
 /// registrars after it.
 pub(super) fn observe(
@@ -219,6 +241,10 @@ pub(super) fn observe(
     broken.set(
         Broken::SEQUENCE_WRONG,
         for_sequence != sequence_refusal(model, from, call),
+    );
+    broken.set(
+        Broken::QUOTA_WRONG,
+        !quota_kept(model, from, call, said, to),
     );
 
     // Registrars: who registered each identifier the core remembers now.

@@ -380,6 +380,17 @@ fn answered_in_sequence<const I: usize>(_: &RtcModel, step: &RtcStep) -> bool {
     answered_as(step, SEQUENCE_ANSWERS.get(I))
 }
 
+/// The answer only an adapter with a quota gives.
+const QUOTA_ANSWER: Wanted = (
+    "COOP-DEV-QUOTA.1: a new scene through an interface at its quota is refused",
+    Kind::Update,
+    |a| a == Answer::Refused(Refusal::Quota),
+);
+
+fn answered_for_quota(_: &RtcModel, step: &RtcStep) -> bool {
+    answered_as(step, Some(&QUOTA_ANSWER))
+}
+
 /// Witnesses, on steps that changed something (a stalled step's states are its
 /// predecessor's). The operator holds back a scene that auto mode and its module would run.
 fn operator_stands_under_auto_mode(_: &RtcModel, step: &RtcStep) -> bool {
@@ -440,6 +451,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
         ("COOP-OWN-REMOVE.1: a clear retires exactly its interface's live scenes and answers them", unbroken::<{ Broken::CLEAR_WRONG.0 }>),
         ("COOP-DEV-CONSTANTS.1: a call is refused for an undefined constant exactly when it carries one, naming the first such field and its value", unbroken::<{ Broken::FIELD_MISNAMED.0 }>),
         ("COOP-DEV-SEQUENCE.1, COOP-OWN-MODULE.1: an update is refused for its sequence exactly when it is unbound, unstated for a new scene of several, or not its live scene's; no other call meets the module rule", unbroken::<{ Broken::SEQUENCE_WRONG.0 }>),
+        ("COOP-DEV-QUOTA.1: a new scene registers only through an interface below its quota, and only a new scene through an interface at its quota is refused for it", unbroken::<{ Broken::QUOTA_WRONG.0 }>),
     ]
 }
 
@@ -476,14 +488,14 @@ fn state<const I: usize>(model: &RtcModel, step: &RtcStep) -> bool {
 /// the name checks; a model checks [`properties_for`] its bindings.
 #[must_use]
 pub fn properties() -> Vec<Property<RtcModel>> {
-    properties_for(true)
+    properties_for(true, true)
 }
 
 /// The properties of a model with (`several_sequences`) or without an interface bound to
-/// several sequences: without one, the reachability of the answers only such an interface gives
-/// is left out, since no call could give them.
+/// several sequences, and with or without a `quota`: without one, the reachability of the
+/// answers only such an interface or a quota gives is left out, since no call could give them.
 #[must_use]
-pub fn properties_for(several_sequences: bool) -> Vec<Property<RtcModel>> {
+pub fn properties_for(several_sequences: bool, quota: bool) -> Vec<Property<RtcModel>> {
     let answers = per_index!(answered: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30);
     let in_sequence = per_index!(answered_in_sequence: 0 1 2 3);
     let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14);
@@ -523,6 +535,9 @@ pub fn properties_for(several_sequences: bool) -> Vec<Property<RtcModel>> {
             two_interfaces_live,
         ),
     ]);
+    if quota {
+        properties.push(Property::sometimes(QUOTA_ANSWER.0, answered_for_quota));
+    }
     if several_sequences {
         properties.push(Property::sometimes(
             "witness: one interface has live scenes of two modules under different policies",

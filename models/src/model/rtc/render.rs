@@ -34,6 +34,8 @@ pub fn answer(outcome: &Outcome) -> String {
                     "a new scene without its sequence (COOP-DEV-SEQUENCE.1)".to_owned(),
                 Refusal::InitialPhase(r) => format!("cannot start there ({})", r.tag()),
                 Refusal::Core(r) => r.tag().to_owned(),
+                Refusal::Quota =>
+                    "a new scene over its interface's quota (COOP-DEV-QUOTA.1)".to_owned(),
                 Refusal::Other => "other".to_owned(),
             }
         ),

@@ -54,6 +54,8 @@ pub enum Refusal {
     InitialPhase(Rule),
     /// `RtcError::Core`, with the core's rule.
     Core(Rule),
+    /// `RtcError::SceneQuota`.
+    Quota,
     /// An error this model does not know.
     Other,
 }
@@ -71,6 +73,7 @@ impl Refusal {
             RtcError::SequenceUnstated { .. } => Self::SequenceUnstated,
             RtcError::InitialPhase { rejection, .. } => Self::InitialPhase(rejection.rule()),
             RtcError::Core(rejection) => Self::Core(rejection.rule()),
+            RtcError::SceneQuota { .. } => Self::Quota,
             _ => Self::Other,
         }
     }
@@ -152,9 +155,13 @@ impl Broken {
     /// interface is not bound to, stated none for a new scene of an interface bound to several,
     /// or stated another than its live scene's; or another call was refused by the module rule.
     pub const SEQUENCE_WRONG: Self = Self(1 << 13);
+    /// A new scene registered through an interface already holding its quota of live scenes, or
+    /// a report was refused for the quota other than a new scene's through an interface holding
+    /// its quota.
+    pub const QUOTA_WRONG: Self = Self(1 << 14);
 
     /// Every flag with a short name, for traces.
-    pub const NAMED: [(Self, &'static str); 14] = [
+    pub const NAMED: [(Self, &'static str); 15] = [
         (Self::REFUSAL_CHANGED, "refusal changed the state"),
         (Self::UNANSWERED, "request not answered as it went"),
         (
@@ -187,6 +194,7 @@ impl Broken {
             Self::SEQUENCE_WRONG,
             "sequence refused other than as documented",
         ),
+        (Self::QUOTA_WRONG, "quota applied other than as documented"),
     ];
 
     /// The names of the flags among these.

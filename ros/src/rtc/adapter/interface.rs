@@ -237,6 +237,7 @@ impl Interface<'_> {
                     bound: self.binding.modules().collect(),
                 })?,
         };
+        // [COOP-DEV-QUOTA.1]
         if let Some(quota) = self.quota {
             let index = self.index;
             let live = self
