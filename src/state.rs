@@ -84,7 +84,8 @@ enum Plan<'a> {
 ///   that fired or the typed [`Rejection`].
 /// - **Asking about scenes:** [`scene`](Self::scene), [`scenes`](Self::scenes),
 ///   [`scene_count`](Self::scene_count), [`merged_decision`](Self::merged_decision),
-///   [`merged_decisions`](Self::merged_decisions), [`force_activated`](Self::force_activated),
+///   [`merged_decisions`](Self::merged_decisions), [`awaits_operator`](Self::awaits_operator),
+///   [`force_activated`](Self::force_activated),
 ///   [`force_deactivated`](Self::force_deactivated), [`status`](Self::status).
 /// - **Asking about identifiers, policies and limits:** [`retirement`](Self::retirement),
 ///   [`retired_oldest_first`](Self::retired_oldest_first),

@@ -1,7 +1,9 @@
 // The operator panel: the scenes of both factor streams, nearest first, with the four operator
-// decisions; the modules' policies as switches; the node's answers. Everything shown comes
-// from the node: a decision or a policy is drawn from the next publication or get_policies,
-// never assumed from a click.
+// decisions, each scene's merged decision, age and whether it waits for the operator (from the
+// node's /cooperation/scenes); the modules' policies as switches; the node's answers, with a
+// history. Everything shown comes from the node: a decision or a policy is drawn from the next
+// publication or get_policies, never assumed from a click. Overriding a module that reports a
+// scene unsafe takes a second, confirming click.
 'use strict';
 
 (function () {
@@ -25,6 +27,12 @@
     velocity: ['/api/planning/velocity_factors', 'autoware_adapi_v1_msgs/msg/VelocityFactorArray'],
     steering: ['/api/planning/steering_factors', 'autoware_adapi_v1_msgs/msg/SteeringFactorArray'],
   };
+  const SCENES_TOPIC = ['/cooperation/scenes', 'cooperation_server/msg/SceneArray'];
+  // A scene its module has not reported for this long is shown stale.
+  const STALE_MS = 1000;
+  // A confirming click must come within this time of the first.
+  const CONFIRM_MS = 5000;
+  const HISTORY_LENGTH = 30;
   // A call the node has not answered in this time is reported as unanswered.
   const CALL_TIMEOUT_MS = 5000;
   const POLICY_REFRESH_MS = 5000;
@@ -38,6 +46,7 @@
   let reconnectDelay = 500;
   const factors = { velocity: [], steering: [] };
   const rows = new Map(); // uuid hex -> <tr>
+  let sceneStates = new Map(); // uuid hex -> the node's /cooperation/scenes entry
   const pendingScenes = new Set(); // uuid hex of scenes with a command in flight
   const pendingPolicies = new Set(); // policy keys with a setting in flight
   let policyRequest = 0; // the newest get_policies; older answers are dropped
@@ -94,10 +103,15 @@
 
   // --- The message area -----------------------------------------------------------------------
 
+  // The newest message, and a line in the history, newest first.
   function say(kind, text) {
     const area = $('message');
     area.dataset.kind = kind;
     area.textContent = text;
+    const history = $('history');
+    const time = new Date().toLocaleTimeString([], { hour12: false });
+    history.prepend(el('li', { 'data-kind': kind }, [el('time', {}, [time]), ' ', text]));
+    while (history.children.length > HISTORY_LENGTH) history.lastElementChild.remove();
   }
 
   // --- Connection -----------------------------------------------------------------------------
@@ -135,15 +149,26 @@
           renderScenes();
         });
       }
+      const [name, messageType] = SCENES_TOPIC;
+      new ROSLIB.Topic({ ros: client, name, messageType }).subscribe((message) => {
+        if (ros !== client) return;
+        const states = Array.isArray(message.scenes) ? message.scenes : [];
+        sceneStates = new Map(states.map((s) => [hex(uuidBytes(s.uuid)), s]));
+        renderScenes();
+      });
       refreshPolicies();
     });
     client.on('error', () => {});
     client.on('close', () => {
       if (ros !== client) return;
+      const wasConnected = connected;
       connected = false;
       ros = null;
       factors.velocity = [];
       factors.steering = [];
+      sceneStates = new Map();
+      // An answer shown before the connection dropped says nothing of the node now.
+      if (wasConnected) say('error', `Connection to ${location.host} lost: the scenes and answers above may be out of date.`);
       pendingScenes.clear();
       pendingPolicies.clear();
       renderScenes();
@@ -229,6 +254,8 @@
   function newRow(scene) {
     const module = el('span', { class: 'module', 'data-col': 'module' });
     const sub = el('span', { class: 'sub', 'data-col': 'about' });
+    const id = el('span', { class: 'sub uuid', 'data-col': 'uuid' });
+    const waiting = el('span', { class: 'waiting', 'data-col': 'waiting' });
     const buttons = CHOICES.map(({ decision, label }) => {
       const button = el('button', { type: 'button', 'data-decision': String(decision), 'aria-pressed': 'false' }, [label]);
       button.addEventListener('click', () => command(row, decision));
@@ -236,12 +263,14 @@
     });
     const group = el('div', { class: 'decide', role: 'group' }, buttons);
     const row = el('tr', { 'data-uuid': scene.uuid, id: `scene-${scene.uuid}` }, [
-      el('td', {}, [module, sub]),
-      el('td', { class: 'distance', 'data-col': 'distance' }),
-      el('td', {}, [el('span', { class: 'badge', 'data-col': 'autonomous' })]),
-      el('td', {}, [el('span', { class: 'badge', 'data-col': 'cooperator' })]),
-      el('td', { 'data-col': 'cancellable' }),
-      el('td', {}, [group]),
+      el('td', { class: 'module-cell' }, [module, waiting, sub, id]),
+      el('td', { class: 'distance', 'data-col': 'distance', 'data-label': 'Distance' }),
+      el('td', { 'data-label': 'Module decision' }, [el('span', { class: 'badge', 'data-col': 'autonomous' })]),
+      el('td', { 'data-label': 'Operator decision' }, [el('span', { class: 'badge', 'data-col': 'cooperator' })]),
+      el('td', { 'data-label': 'Merged' }, [el('span', { class: 'badge', 'data-col': 'merged' })]),
+      el('td', { class: 'age', 'data-col': 'age', 'data-label': 'Reported' }),
+      el('td', { 'data-col': 'cancellable', 'data-label': 'Cancellable' }),
+      el('td', { class: 'decide-cell' }, [group]),
     ]);
     return row;
   }
@@ -253,11 +282,21 @@
     setAttr(row, 'data-kind', scene.kind);
     setAttr(row, 'data-cancellable', String(scene.cancellable));
     setText(cell('module'), name);
-    const about = [scene.kind === 'steering' ? `steering${scene.direction ? `, ${scene.direction}` : ''}` : 'velocity',
-      formatUuid(scene.uuid).slice(0, 8)];
+    const about = [scene.kind === 'steering' ? `steering${scene.direction ? `, ${scene.direction}` : ''}` : 'velocity'];
     if (scene.detail) about.push(scene.detail);
     setText(cell('about'), about.join(' · '));
-    setAttr(cell('about'), 'title', formatUuid(scene.uuid));
+    setText(cell('uuid'), formatUuid(scene.uuid));
+    // What the node's core says of the scene beyond the AD API's status.
+    const state = sceneStates.get(scene.uuid);
+    const merged = state && state.merged ? state.merged.decision : DECISION.UNKNOWN;
+    setAttr(cell('merged'), 'data-decision', String(merged));
+    setText(cell('merged'), state ? DECISION_NAME[merged] || String(merged) : '—');
+    const waiting = Boolean(state && state.awaits_operator);
+    setAttr(row, 'data-waiting', String(waiting));
+    setText(cell('waiting'), waiting ? (state.requested ? 'Waiting for you: the module asks' : 'Waiting for you') : '');
+    const age = state && typeof state.age_ms === 'number' ? state.age_ms : null;
+    setAttr(row, 'data-stale', String(age !== null && age >= STALE_MS));
+    setText(cell('age'), age === null ? '—' : `${(age / 1000).toFixed(1)} s ago`);
     setText(cell('distance'), scene.distances.length > 1
       ? `${metres(scene.distances[0])} → ${metres(scene.distances[1])}`
       : metres(scene.distances[0]));
@@ -269,14 +308,18 @@
     setText(cell('cancellable'), scene.cancellable ? 'yes' : 'no');
     const pending = pendingScenes.has(scene.uuid);
     const group = row.querySelector('.decide');
-    setAttr(group, 'aria-label', `Operator decision for ${name} ${formatUuid(scene.uuid).slice(0, 8)}`);
+    setAttr(group, 'aria-label', `Operator decision for ${name} ${formatUuid(scene.uuid)}`);
     setAttr(group, 'aria-busy', String(pending));
+    const confirming = row.confirming && row.confirming.until > Date.now() ? row.confirming.decision : null;
     for (const button of group.querySelectorAll('button')) {
       const decision = Number(button.dataset.decision);
       setAttr(button, 'aria-pressed', String(decision === scene.cooperator));
       button.disabled = pending || !scene.cancellable;
       const why = scene.cancellable ? '' : 'This scene is not cancellable: the node accepts no command for it now';
       setAttr(button, 'title', why);
+      const label = CHOICES.find((c) => c.decision === decision).label;
+      setAttr(button, 'data-confirm', String(decision === confirming));
+      setText(button, decision === confirming ? `Confirm ${label.toLowerCase()}` : label);
     }
   }
 
@@ -304,10 +347,24 @@
     setText($('no-scenes'), connected ? 'No scene is reported.' : 'Not connected: no scenes to show.');
   }
 
+  // Overriding a module that reports the scene unsafe takes a confirming second click.
+  function overridesUnsafe(scene, decision) {
+    return decision === DECISION.ACTIVATE && scene.autonomous === DECISION.DEACTIVATE;
+  }
+
   function command(row, decision) {
     const scene = row.scene;
-    const name = `${moduleName(scene.behavior, scene.sequence)} ${formatUuid(scene.uuid).slice(0, 8)}`;
+    const name = `${moduleName(scene.behavior, scene.sequence)} ${formatUuid(scene.uuid)}`;
     const choice = DECISION_NAME[decision];
+    const confirmed = row.confirming && row.confirming.decision === decision && row.confirming.until > Date.now();
+    row.confirming = null;
+    if (overridesUnsafe(scene, decision) && !confirmed) {
+      row.confirming = { decision, until: Date.now() + CONFIRM_MS };
+      say('warning', `${name}: its module reports it unsafe. Press "Confirm activate" within ${CONFIRM_MS / 1000} s to activate it anyway.`);
+      renderScenes();
+      setTimeout(renderScenes, CONFIRM_MS + 50);
+      return;
+    }
     pendingScenes.add(scene.uuid);
     renderScenes();
     const finish = () => {

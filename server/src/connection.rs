@@ -80,15 +80,12 @@ pub const MAX_SUBSCRIPTIONS: usize = 64;
 /// without) and its `throttle_rate`.
 #[derive(Default)]
 struct Subscriptions {
-    topics: BTreeMap<(u8, Option<String>), Duration>,
+    topics: BTreeMap<(usize, Option<String>), Duration>,
 }
 
 impl Subscriptions {
-    const fn key(topic: Topic) -> u8 {
-        match topic {
-            Topic::Velocity => 0,
-            Topic::Steering => 1,
-        }
+    const fn key(topic: Topic) -> usize {
+        topic.index()
     }
 
     /// The topic's interval after a change: the smallest throttle of its subscriptions, or
@@ -304,24 +301,28 @@ where
     S: futures_util::Sink<Message> + Unpin,
     S::Error: std::fmt::Display,
 {
-    let mut velocity = Stream::new(node.subscribe(Topic::Velocity));
-    let mut steering = Stream::new(node.subscribe(Topic::Steering));
+    let [mut velocity, mut steering, mut scenes] =
+        Topic::ALL.map(|topic| Stream::new(node.subscribe(topic)));
     let mut keepalive = tokio::time::interval(limits.keepalive);
     keepalive.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     keepalive.reset();
     loop {
-        let (velocity_open, steering_open) = (velocity.open(), steering.open());
-        let reopens = velocity.reopens().min(steering.reopens());
+        let (velocity_open, steering_open, scenes_open) =
+            (velocity.open(), steering.open(), scenes.open());
+        let reopens = velocity
+            .reopens()
+            .min(steering.reopens())
+            .min(scenes.reopens());
         let message = tokio::select! {
             biased;
             item = queue.recv() => match item {
                 Some(Out::Frame(frame)) => Message::Text(frame),
-                Some(Out::Topic(Topic::Velocity, every)) => {
-                    velocity.set(every);
-                    continue;
-                }
-                Some(Out::Topic(Topic::Steering, every)) => {
-                    steering.set(every);
+                Some(Out::Topic(topic, every)) => {
+                    match topic {
+                        Topic::Velocity => velocity.set(every),
+                        Topic::Steering => steering.set(every),
+                        Topic::Scenes => scenes.set(every),
+                    }
                     continue;
                 }
                 None => break,
@@ -332,6 +333,10 @@ where
             },
             changed = steering.receiver.changed(), if steering_open => match changed {
                 Ok(()) => steering.take(),
+                Err(_) => break,
+            },
+            changed = scenes.receiver.changed(), if scenes_open => match changed {
+                Ok(()) => scenes.take(),
                 Err(_) => break,
             },
             () = tokio::time::sleep_until(reopens) => continue,

@@ -23,6 +23,7 @@ pub mod node;
 mod panel;
 pub mod rosapi;
 pub mod rosbridge;
+pub mod scenes;
 pub mod sync;
 
 use std::net::SocketAddr;

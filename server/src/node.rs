@@ -19,20 +19,29 @@ use serde::Serialize;
 use tokio::sync::{watch, Notify};
 
 use crate::clock::Clock;
+use crate::scenes;
 use crate::sync::{self, SyncRequest, SyncResponse};
 
-/// The two topics the node publishes.
+/// The topics the node publishes.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Topic {
     /// `/api/planning/velocity_factors`.
     Velocity,
     /// `/api/planning/steering_factors`.
     Steering,
+    /// `/cooperation/scenes` ([`crate::scenes`]).
+    Scenes,
 }
 
 impl Topic {
-    /// Both topics.
-    pub const ALL: [Self; 2] = [Self::Velocity, Self::Steering];
+    /// Every topic, in the order of [`index`](Self::index).
+    pub const ALL: [Self; 3] = [Self::Velocity, Self::Steering, Self::Scenes];
+
+    /// The topic's position in [`ALL`](Self::ALL).
+    #[must_use]
+    pub const fn index(self) -> usize {
+        self as usize
+    }
 
     /// The topic's name.
     #[must_use]
@@ -40,6 +49,7 @@ impl Topic {
         match self {
             Self::Velocity => "/api/planning/velocity_factors",
             Self::Steering => "/api/planning/steering_factors",
+            Self::Scenes => scenes::NAME,
         }
     }
 
@@ -49,6 +59,7 @@ impl Topic {
         match self {
             Self::Velocity => "autoware_adapi_v1_msgs/msg/VelocityFactorArray",
             Self::Steering => "autoware_adapi_v1_msgs/msg/SteeringFactorArray",
+            Self::Scenes => scenes::TYPE,
         }
     }
 
@@ -77,8 +88,8 @@ pub struct Node {
     /// Counts the changes made to the core, from 1. Written and read only with the lock held,
     /// so its value, read under the lock, is the revision of the state the lock guards.
     revision: AtomicU64,
-    velocity: watch::Sender<Publication>,
-    steering: watch::Sender<Publication>,
+    /// Each topic's newest publication, in [`Topic::ALL`]'s order.
+    topics: [watch::Sender<Publication>; 3],
     /// Woken by a change that should be published soon.
     changed: Notify,
 }
@@ -133,14 +144,11 @@ impl Node {
     /// The core's refusal of the configuration.
     pub fn with_scene_quota(config: Config, quota: usize) -> Result<Self, ConfigError> {
         let state = State::new(config)?;
-        let (velocity, _) = watch::channel(Publication::default());
-        let (steering, _) = watch::channel(Publication::default());
         let node = Self {
             shared: Shared::new(Host::new(state, Rtc::standard().with_scene_quota(quota))),
             clock: Clock::start(),
             revision: AtomicU64::new(0),
-            velocity,
-            steering,
+            topics: core::array::from_fn(|_| watch::channel(Publication::default()).0),
             changed: Notify::new(),
         };
         node.publish();
@@ -162,10 +170,13 @@ impl Node {
     /// A receiver of `topic`'s publications: always the newest, earlier ones skipped.
     #[must_use]
     pub fn subscribe(&self, topic: Topic) -> watch::Receiver<Publication> {
-        match topic {
-            Topic::Velocity => self.velocity.subscribe(),
-            Topic::Steering => self.steering.subscribe(),
-        }
+        self.sender(topic).subscribe()
+    }
+
+    fn sender(&self, topic: Topic) -> &watch::Sender<Publication> {
+        // `topics` has one sender per topic, in `Topic::ALL`'s order.
+        #[allow(clippy::indexing_slicing)]
+        &self.topics[topic.index()]
     }
 
     /// Counts a change, with the lock held: the state's new revision.
@@ -173,31 +184,26 @@ impl Node {
         self.revision.fetch_add(1, Ordering::SeqCst) + 1
     }
 
-    /// Reads both streams from the core as it is now and publishes them: read under the lock,
+    /// Reads every topic from the core as it is now and publishes them: read under the lock,
     /// serialized outside it.
     pub fn publish(&self) {
         let stamp = self.clock.stamp();
-        let (revision, velocity, steering) = self.shared.read(|host| {
+        let (revision, velocity, steering, scenes) = self.shared.read(|host| {
             (
                 self.revision.load(Ordering::SeqCst),
                 wire::velocity_factors(host.state(), stamp),
                 wire::steering_factors(host.state(), stamp),
+                scenes::scene_array(host.state(), stamp),
             )
         });
-        send_newer(
-            &self.velocity,
-            Publication {
-                revision,
-                frame: publish_frame(Topic::Velocity, &velocity),
-            },
-        );
-        send_newer(
-            &self.steering,
-            Publication {
-                revision,
-                frame: publish_frame(Topic::Steering, &steering),
-            },
-        );
+        let frames = [
+            publish_frame(Topic::Velocity, &velocity),
+            publish_frame(Topic::Steering, &steering),
+            publish_frame(Topic::Scenes, &scenes),
+        ];
+        for (topic, frame) in Topic::ALL.into_iter().zip(frames) {
+            send_newer(self.sender(topic), Publication { revision, frame });
+        }
     }
 
     /// Asks the publishing task to publish soon; several asks before it runs make one
@@ -211,7 +217,7 @@ impl Node {
         self.changed.notified().await;
     }
 
-    /// Waits until both streams show revision `revision` or a later one, asking for a
+    /// Waits until every stream shows revision `revision` or a later one, asking for a
     /// publication. Callers changing the core at once share that publication.
     pub async fn published(&self, revision: u64) {
         self.publish_soon();

@@ -222,10 +222,10 @@ fn others(envelope: &Envelope<'_>) -> Vec<Action> {
                 return refuse(&format!("{} without a topic", envelope.op));
             };
             let Some(topic) = Topic::from_name(name) else {
+                let names: Vec<&str> = Topic::ALL.iter().map(|t| t.name()).collect();
                 return refuse(&format!(
-                    "no topic {name:?}: this node publishes {:?} and {:?}",
-                    Topic::Velocity.name(),
-                    Topic::Steering.name()
+                    "no topic {name:?}: this node publishes {}",
+                    names.join(", ")
                 ));
             };
             if let Some(given) = envelope.r#type.as_deref() {

@@ -8,8 +8,9 @@
 use std::collections::BTreeMap;
 
 use cooperation::{Scene, SceneId, Sequence};
-use cooperation_ros::rtc::{CooperateStatus, CooperateStatusArray, RtcError, Uuid};
+use cooperation_ros::rtc::{CooperateStatus, CooperateStatusArray, Lifecycle, RtcError, Uuid};
 use cooperation_ros::{Host, Time};
+use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
 
 /// The service's name.
@@ -23,16 +24,60 @@ pub const TYPE: &str = "cooperation_server/srv/SyncCooperateStatus";
 pub struct SyncRequest {
     /// The RTC interface the module reports through, e.g. `lane_change_left`.
     pub interface: String,
-    /// This cycle's statuses, applied in order, each as `updateCooperateStatus`. `module`,
-    /// `command_status`, `auto_mode` and `stamp` are the node's to fill: they are not read.
+    /// This cycle's statuses, applied in order, each as `updateCooperateStatus`.
     #[serde(default)]
-    pub statuses: Vec<CooperateStatus>,
+    pub statuses: Vec<SyncStatus>,
     /// The sequence of each new scene of an interface that binds several (the avoidances).
     #[serde(default)]
     pub sequences: Vec<StatedSequence>,
     /// Scenes the module removes, after the statuses, each as `removeCooperateStatus`.
     #[serde(default)]
     pub removed: Vec<Uuid>,
+}
+
+/// One status a module reports: the fields of `tier4_rtc_msgs/CooperateStatus` the module owns.
+/// The fields the node fills (`stamp`, `module`, `command_status`, `auto_mode`) may be sent, as
+/// the message has them, and are not read.
+#[derive(Clone, PartialEq, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SyncStatus {
+    /// The scene.
+    pub uuid: Uuid,
+    /// The module's own judgment: the module decision is activate.
+    pub safe: bool,
+    /// The module asks for an operator decision.
+    #[serde(default)]
+    pub requested: bool,
+    /// The lifecycle state (`tier4_rtc_msgs/State`).
+    pub state: Lifecycle,
+    /// Distance to the start of the section the scene changes, in metres.
+    pub start_distance: f32,
+    /// Distance to its end, in metres.
+    pub finish_distance: f32,
+    #[serde(default)]
+    stamp: Option<IgnoredAny>,
+    #[serde(default)]
+    module: Option<IgnoredAny>,
+    #[serde(default)]
+    command_status: Option<IgnoredAny>,
+    #[serde(default)]
+    auto_mode: Option<IgnoredAny>,
+}
+
+impl SyncStatus {
+    /// The status as the RTC interface reads it.
+    #[must_use]
+    pub fn status(&self) -> CooperateStatus {
+        CooperateStatus {
+            uuid: self.uuid,
+            safe: self.safe,
+            requested: self.requested,
+            state: self.state,
+            start_distance: self.start_distance,
+            finish_distance: self.finish_distance,
+            ..CooperateStatus::default()
+        }
+    }
 }
 
 /// A scene's sequence.
@@ -126,6 +171,7 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         let stated = sequences.get(&status.uuid).copied();
         let before = interface.view().scene(SceneId::from(status.uuid)).cloned();
         let outcome = status
+            .status()
             .report()
             .map_err(RtcError::from)
             .map(|report| match stated {

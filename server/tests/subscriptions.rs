@@ -155,7 +155,11 @@ async fn rosapi_lists_the_topics_and_services_with_their_types() {
     let topics = values(client.call("/rosapi/topics", json!({})).await);
     assert_eq!(
         topics["topics"],
-        json!([VELOCITY, "/api/planning/steering_factors"])
+        json!([
+            VELOCITY,
+            "/api/planning/steering_factors",
+            "/cooperation/scenes"
+        ])
     );
     assert_eq!(
         topics["types"][0],

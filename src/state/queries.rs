@@ -130,6 +130,14 @@ impl State {
         })
     }
 
+    /// Whether a live scene waits for an operator ([`Scene::awaits_operator`]).
+    #[must_use]
+    pub fn awaits_operator(&self, id: SceneId) -> Option<bool> {
+        let scene = self.scenes.get(id)?;
+        let policy = self.policies.get(scene.module)?;
+        Some(scene.awaits_operator(policy))
+    }
+
     /// Whether the operator activated what the module would not (`[COOP-FORCE-ACTIVATED.1]`).
     #[must_use]
     pub fn force_activated(&self, id: SceneId) -> Option<bool> {

@@ -102,6 +102,31 @@ impl Scene {
         )
     }
 
+    /// Whether the scene waits for an operator: it takes commands, no operator has decided, and
+    /// the policy that applies to it is `required`, so its merged decision is deactivate until
+    /// one does (`[COOP-MERGE.1]`, `[COOP-REQUESTED.1]`). What an operator interface highlights.
+    ///
+    /// ```
+    /// use cooperation::*;
+    ///
+    /// let lane_change = Module::new(Behavior::LaneChange);
+    /// let mut state = State::new(Config::new([(lane_change, Policy::Required)]))?;
+    /// let id = SceneId::from_u128(1);
+    /// let report = Report::new(Decision::Activate, Geometry::velocity(30.0));
+    /// state.apply(&Input::Register { id, module: lane_change, report })?;
+    /// assert_eq!(state.awaits_operator(id), Some(true));
+    /// let command = Command { id, decision: OperatorDecision::Activate };
+    /// state.apply(&Input::SetCommands { commands: vec![command] })?;
+    /// assert_eq!(state.awaits_operator(id), Some(false));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub const fn awaits_operator(&self, module_policy: Policy) -> bool {
+        self.phase.is_cancellable()
+            && matches!(self.operator_decision, OperatorDecision::Undecided)
+            && matches!(self.effective_policy(module_policy), Policy::Required)
+    }
+
     /// The operator activated what the module would not, or would not decide on its own
     /// (`[COOP-FORCE-ACTIVATED.1]`).
     #[must_use]

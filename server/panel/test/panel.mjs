@@ -49,16 +49,21 @@ class Failure extends Error {}
 
 const bytes = (hex) => Array.from({ length: 16 }, (_, i) => parseInt(hex.slice(2 * i, 2 * i + 2), 16));
 
-function scene(hex, iface, { safe, state, start, finish = start }) {
-  return { hex, iface, uuid: bytes(hex), safe, state, start, finish };
+function scene(hex, iface, { safe, state, start, finish = start, requested = false }) {
+  return { hex, iface, uuid: bytes(hex), safe, state, start, finish, requested };
 }
 
-// The module judges the lane change unsafe (module decision deactivate); the crossing is
+const formatted = (hex) => `${hex.slice(0, 8)}-${hex.slice(8, 12)}-${hex.slice(12, 16)}-${hex.slice(16, 20)}-${hex.slice(20)}`;
+
+// The module judges the lane change unsafe (module decision deactivate); the crosswalk asks
+// for an operator decision (requested), so the vehicle waits for one; the crossing is
 // aborting, so the node accepts no command for it.
 const LANE_CHANGE = scene('a17e0c525b7e4d219a0c1e2f3a4b5c6d', 'lane_change_left', { safe: false, state: RTC_WAITING, start: 30, finish: 80 });
 const INTERSECTION = scene('3f2a9c105b7e4d219a0c1e2f3a4b5c6d', 'intersection', { safe: true, state: RTC_WAITING, start: 12 });
-const CROSSWALK = scene('c0ffee005b7e4d219a0c1e2f3a4b5c6d', 'crosswalk', { safe: true, state: RTC_RUNNING, start: 45 });
+const CROSSWALK = scene('c0ffee005b7e4d219a0c1e2f3a4b5c6d', 'crosswalk', { safe: true, state: RTC_RUNNING, start: 45, requested: true });
 const TRAFFIC_LIGHT = scene('7a1c3e905b7e4d219a0c1e2f3a4b5c6d', 'traffic_light', { safe: true, state: RTC_ABORTING, start: 60 });
+// Reported last, asking for an operator decision: the screenshot shows it waiting.
+const ASKING = scene('5eed00015b7e4d219a0c1e2f3a4b5c6d', 'intersection', { safe: true, state: RTC_WAITING, start: 20, requested: true });
 const NEAREST_FIRST = [INTERSECTION, LANE_CHANGE, CROSSWALK, TRAFFIC_LIGHT];
 
 function status(s, state = s.state) {
@@ -67,7 +72,7 @@ function status(s, state = s.state) {
     uuid: { uuid: s.uuid },
     module: { type: 0 },
     safe: s.safe,
-    requested: false,
+    requested: s.requested,
     command_status: { type: 0 },
     state: { type: state },
     auto_mode: false,
@@ -201,6 +206,11 @@ class Module {
     if (s.state === RTC_ABORTING) await this.syncOnce(s.iface, [status(s, RTC_RUNNING)]);
     await this.syncOnce(s.iface, [status(s)]);
     this.scenes.set(s.hex, s);
+  }
+
+  // Stops reporting a scene, as a module that went silent: the node keeps it until it expires.
+  silence(s) {
+    this.scenes.delete(s.hex);
   }
 
   async remove(s) {
@@ -364,9 +374,36 @@ async function run(state) {
   await pageUntil(page, 'the lane change shows module decision deactivate', ...cellIs(LANE_CHANGE, 'autonomous', DEACTIVATE));
   log('the scenes are listed nearest first');
 
+  // Each row names its scene in full, shows the merged decision the vehicle drives with, and
+  // marks the scene the vehicle waits on the operator for.
+  for (const s of NEAREST_FIRST) {
+    const id = (await page.locator(`${row(s)} [data-col="uuid"]`).textContent()).trim();
+    if (id !== formatted(s.hex)) throw new Failure(`scene ${s.hex} is shown as ${JSON.stringify(id)}, not in full`);
+  }
+  await pageUntil(page, 'the intersection (safe, optional) shows merged activate', ...cellIs(INTERSECTION, 'merged', ACTIVATE));
+  await pageUntil(page, 'the lane change (unsafe) shows merged deactivate', ...cellIs(LANE_CHANGE, 'merged', DEACTIVATE));
+  await pageUntil(page, 'the crosswalk (requested) shows merged deactivate', ...cellIs(CROSSWALK, 'merged', DEACTIVATE));
+  await pageUntil(page, 'the crosswalk, which asks, is marked as waiting for the operator, and only it',
+    ([waiting, others]) => document.querySelector(waiting).dataset.waiting === 'true'
+      && /Waiting for you/.test(document.querySelector(waiting).textContent)
+      && others.every((selector) => document.querySelector(selector).dataset.waiting === 'false'),
+    [row(CROSSWALK), [row(INTERSECTION), row(LANE_CHANGE), row(TRAFFIC_LIGHT)]]);
+  log('full identifiers, merged decisions, and the scene waiting for the operator are shown');
+
+  // Activating a scene its module reports unsafe takes a second, confirming click.
+  await page.click(button(LANE_CHANGE, ACTIVATE), { timeout: STEP_MS });
+  await pageUntil(page, 'the first click on activate asks for confirmation',
+    (selector) => document.querySelector(selector).dataset.confirm === 'true'
+      && document.getElementById('message').dataset.kind === 'warning', button(LANE_CHANGE, ACTIVATE));
+  await new Promise((resolve) => setTimeout(resolve, 2 * RESYNC_MS));
+  const unconfirmed = module.activation(LANE_CHANGE);
+  if (!unconfirmed || unconfirmed.force_activated) throw new Failure(`one click activated an unsafe scene: ${JSON.stringify(unconfirmed)}`);
+  log('one click on activate for an unsafe scene sends nothing and asks to confirm');
+
   // Activate: the operator decision column changes, and the module is told.
   await page.click(button(LANE_CHANGE, ACTIVATE), { timeout: STEP_MS });
   await pageUntil(page, 'the lane change shows operator decision activate', ...cellIs(LANE_CHANGE, 'cooperator', ACTIVATE));
+  await pageUntil(page, 'the lane change shows merged activate', ...cellIs(LANE_CHANGE, 'merged', ACTIVATE));
   await pageUntil(page, 'the activate button shows pressed',
     (selector) => document.querySelector(selector).getAttribute('aria-pressed') === 'true', button(LANE_CHANGE, ACTIVATE));
   await until('the module\'s sync says the lane change is force-activated', () => {
@@ -410,6 +447,48 @@ async function run(state) {
   });
   log('a success replaced the refusal');
 
+  // The crosswalk decided, it no longer waits for the operator.
+  await pageUntil(page, 'the decided crosswalk is no longer marked as waiting',
+    (selector) => document.querySelector(selector).dataset.waiting === 'false', row(CROSSWALK));
+
+  // A module that stops reporting a scene: its row's age grows and it is marked stale.
+  module.silence(TRAFFIC_LIGHT);
+  await pageUntil(page, 'the scene its module stopped reporting is marked stale, the others are not',
+    ([silent, others]) => document.querySelector(silent).dataset.stale === 'true'
+      && /s ago/.test(document.querySelector(`${silent} [data-col="age"]`).textContent)
+      && others.every((selector) => document.querySelector(selector).dataset.stale === 'false'),
+    [row(TRAFFIC_LIGHT), [row(LANE_CHANGE), row(CROSSWALK)]]);
+  log('a silent module\'s scene is marked stale');
+
+  // Every message is kept, newest first.
+  const history = await page.locator('#history li').allTextContents();
+  for (const wanted of ['reports it unsafe', 'activate accepted', 'refused', 'deactivate accepted']) {
+    if (!history.some((line) => line.includes(wanted))) throw new Failure(`the history has no "${wanted}": ${JSON.stringify(history)}`);
+  }
+  if (!history[0].includes('deactivate accepted')) throw new Failure(`the newest message is not first: ${JSON.stringify(history)}`);
+  log(`the history keeps every message (${history.length})`);
+
+  // At 800 px wide, the scenes fit: nothing scrolls sideways, every button is in view.
+  const narrow = await state.browser.newPage({ viewport: { width: 800, height: 1000 } });
+  await narrow.goto(`http://127.0.0.1:${port}/#token=${OPERATOR_TOKEN}`, { timeout: STEP_MS });
+  await pageUntil(narrow, 'the narrow page lists the scenes',
+    () => document.querySelectorAll('#scene-rows tr').length >= 3);
+  const overflow = await narrow.evaluate(() => {
+    const width = document.documentElement.clientWidth;
+    const wide = document.documentElement.scrollWidth > width;
+    const outside = Array.from(document.querySelectorAll('#scene-rows button'))
+      .filter((b) => b.getBoundingClientRect().right > width || b.getBoundingClientRect().left < 0).length;
+    return { wide, outside, width, scroll: document.documentElement.scrollWidth };
+  });
+  if (overflow.wide || overflow.outside) throw new Failure(`at 800 px the page overflows: ${JSON.stringify(overflow)}`);
+  await narrow.close();
+  log('at 800 px wide the scenes fit the window');
+
+  // A new scene that asks for the operator, for the screenshot.
+  await module.add(ASKING);
+  await pageUntil(page, 'a new scene that asks is marked as waiting',
+    (selector) => document.querySelector(selector)?.dataset.waiting === 'true', row(ASKING));
+
   module.checkCycle();
   if (pageErrors.length) throw new Failure(`the page reported errors: ${pageErrors.join('; ')}`);
 
@@ -418,6 +497,13 @@ async function run(state) {
   mkdirSync(path.dirname(path.resolve(file)), { recursive: true });
   await page.screenshot({ path: file, timeout: STEP_MS });
   log(`screenshot: ${file}`);
+
+  // The node goes away: the last acceptance does not stay on show as if it still held.
+  await stopServer(state.server);
+  await pageUntil(page, 'the message area says the connection was lost',
+    () => document.getElementById('message').dataset.kind === 'error'
+      && /lost/.test(document.getElementById('message').textContent));
+  log('a lost connection replaces the last answer with a warning');
 }
 
 async function cleanUp(state) {
