@@ -224,6 +224,7 @@ async fn handle(node: &Arc<Node>, text: Utf8Bytes, max: usize, grant: &Arc<Grant
                 "a frame of {} bytes, more than the {max} this node reads",
                 text.len()
             );
+            tracing::warn!("a frame refused: {msg}");
             (rosbridge::refuse(text.as_str(), &msg), None)
         } else {
             rosbridge::handle(&worker, text.as_str(), &grant)

@@ -180,6 +180,9 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
             })
             .and_then(|report| interface.update_cooperate_status(&report))
             .map(drop);
+        if let Err(error @ RtcError::SceneQuota { .. }) = &outcome {
+            tracing::warn!("a scene refused: {error}");
+        }
         if outcome.is_ok() {
             effect.changed = true;
             let view = interface.view();
