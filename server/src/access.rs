@@ -15,7 +15,8 @@
 //! it was told to allow (`--allow-host`); any other gets HTTP 403.
 //!
 //! Every page the node serves says it may not be framed by another page
-//! (`Content-Security-Policy: frame-ancestors 'none'`, `X-Frame-Options: DENY`).
+//! (`Content-Security-Policy: frame-ancestors 'none'`, `X-Frame-Options: DENY`), and that it runs
+//! only the node's own scripts and connects only to the node.
 
 use std::net::IpAddr;
 
@@ -119,9 +120,15 @@ fn without_port(host: &str) -> &str {
     host.rsplit_once(':').map_or(host, |(name, _)| name)
 }
 
-/// The headers every page carries: no other page may frame it.
+/// The headers every page carries: no other page may frame it, and a page runs only the node's
+/// own scripts and connects only back to the node (a script injected into it could neither
+/// load nor call out).
 pub(crate) const FRAMING: [(header::HeaderName, &str); 2] = [
-    (header::CONTENT_SECURITY_POLICY, "frame-ancestors 'none'"),
+    (
+        header::CONTENT_SECURITY_POLICY,
+        "default-src 'none'; script-src 'self'; style-src 'unsafe-inline'; img-src data:; \
+         connect-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'",
+    ),
     (header::X_FRAME_OPTIONS, "DENY"),
 ];
 

@@ -156,6 +156,18 @@ fn shown(scene: &Scene) -> impl PartialEq + '_ {
 
 /// A request's answer from the core, and what it did.
 pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, Effect) {
+    // One sync holds the node's lock while it applies: it carries no more entries than a
+    // command batch may.
+    let most = host.state().limits().max_batch;
+    let entries = request.statuses.len() + request.removed.len();
+    if entries > most {
+        let message = format!(
+            "{entries} statuses and removals, more than the {most} a sync may carry (the \
+             settings' max_batch)"
+        );
+        tracing::warn!("a sync refused: {message}");
+        return (refused(message), Effect::default());
+    }
     let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
         Err(error) => return (refused(error.to_string()), Effect::default()),

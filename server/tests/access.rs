@@ -127,9 +127,17 @@ async fn no_page_may_frame_the_panel() {
     let address = served.url.trim_start_matches("ws://").trim_end_matches('/');
     let (status, text) = get(address, &[("Host", address)]).await;
     assert_eq!(status, 200);
-    assert!(
-        text.contains("content-security-policy: frame-ancestors 'none'"),
-        "{text}"
-    );
+    let policy = text
+        .lines()
+        .find_map(|line| line.strip_prefix("content-security-policy: "))
+        .unwrap_or_else(|| panic!("no content-security-policy: {text}"));
+    for directive in [
+        "frame-ancestors 'none'",
+        "script-src 'self'",
+        "connect-src 'self'",
+        "default-src 'none'",
+    ] {
+        assert!(policy.contains(directive), "{directive}: {policy}");
+    }
     assert!(text.contains("x-frame-options: deny"), "{text}");
 }

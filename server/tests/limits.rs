@@ -181,6 +181,30 @@ async fn an_interface_at_its_scene_quota_refuses_new_scenes_and_others_still_reg
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_sync_carries_at_most_max_batch_entries() {
+    let served = serve(Options::default()).await;
+    let mut module = Client::connect(&served.url).await;
+    let removed: Vec<_> = (1..=1025).map(common::uuid).collect();
+    let response = module
+        .call(
+            "/cooperation/rtc/sync",
+            json!({"interface": "intersection", "statuses": [status(1, true, 5.0)], "removed": removed}),
+        )
+        .await;
+    let values = &response["values"];
+    assert_eq!(values["success"], false, "{values}");
+    assert!(
+        values["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("1026 statuses and removals, more than the 1024")),
+        "{values}"
+    );
+    // Nothing applied: the status in it registered nothing.
+    let values = module.sync("intersection", vec![]).await;
+    assert_eq!(values["statuses"]["statuses"], json!([]), "{values}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_report_that_changes_nothing_shown_is_not_published_on_its_own() {
     let served = serve(Options {
         publish_every: Duration::from_secs(3_600),

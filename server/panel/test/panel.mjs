@@ -345,7 +345,9 @@ async function run(state) {
   const nodeUrl = `ws://127.0.0.1:${port}/?token=${OPERATOR_TOKEN}`;
   const own = await page.evaluate(tryConnect, nodeUrl);
   if (own !== 'open') throw new Failure(`the panel's own page could not open a second WebSocket: ${own}`);
-  state.strangerServer = http.createServer((_, response) => {
+  state.strangerHits = 0;
+  state.strangerServer = http.createServer((request, response) => {
+    if (request.url === '/exfiltrate') state.strangerHits += 1;
     response.writeHead(200, { 'content-type': 'text/html' });
     response.end('<title>another origin</title>');
   });
@@ -360,6 +362,20 @@ async function run(state) {
   }
   await stranger.close();
   log('pages of other origins are refused; the panel\'s own page is not');
+
+  // The panel's own page may not call out: a script injected into it could not reach another
+  // server (its Content-Security-Policy allows connections to the node only).
+  const errorsBefore = pageErrors.length;
+  await page.evaluate(async (url) => {
+    try { await fetch(url, { mode: 'no-cors' }); } catch { /* refused */ }
+  }, `http://127.0.0.1:${state.strangerServer.address().port}/exfiltrate`);
+  await new Promise((resolve) => setTimeout(resolve, 200));
+  if (state.strangerHits !== 0) throw new Failure('the panel\'s page sent a request to another server');
+  const violations = pageErrors.splice(errorsBefore);
+  if (!violations.every((text) => /Content Security Policy/.test(text))) {
+    throw new Failure(`unexpected page errors: ${violations.join('; ')}`);
+  }
+  log('the panel\'s page cannot connect to another server');
 
   // The scenes appear, nearest first, velocity and steering factors merged.
   const wanted = NEAREST_FIRST.map((s) => s.hex);
