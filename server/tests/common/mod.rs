@@ -152,9 +152,14 @@ impl Client {
     }
 
     /// The next frame whose `op` is `op`, skipping publications and other frames.
+    /// Panics if none comes within [`WAIT`], however many other frames come meanwhile.
     pub async fn next_op(&mut self, op: &str) -> Value {
+        let deadline = tokio::time::Instant::now() + WAIT;
         loop {
-            let frame = self.next().await.expect("the connection stays open");
+            let frame = tokio::time::timeout_at(deadline, self.next())
+                .await
+                .unwrap_or_else(|_| panic!("no {op:?} frame within {WAIT:?}"))
+                .expect("the connection stays open");
             if frame["op"] == op {
                 return frame;
             }
