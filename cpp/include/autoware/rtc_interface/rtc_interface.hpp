@@ -1,0 +1,398 @@
+// Upstream's RTC interface (`autoware::rtc_interface::RTCInterface`), answered by the verified
+// cooperation core: the same header path, namespace, class, fourteen public methods, topics and
+// services, so that a planning module that includes this header and links
+// `cooperation::rtc_interface` keeps its code. Every answer is the core's (one shared core per
+// node, behind one lock); where upstream's answer is one of its quirks, the answer is the one
+// the specification's deviations give (`spec/cooperation.md` section 9; `docs/cpp.md` lists
+// them call for call). No method throws: a refusal is logged as a warning, as upstream logs
+// its own.
+//
+// With rclcpp (CMake defines COOPERATION_RTC_WITH_RCLCPP where it finds it), `RTCInterface` is
+// built on `rclcpp::Node` and the generated `tier4_rtc_msgs` types. Without it, on
+// `cooperation::rtc::Node` and plain structs of the same names (`cooperation/rtc/messages.hpp`).
+#ifndef AUTOWARE__RTC_INTERFACE__RTC_INTERFACE_HPP_
+#define AUTOWARE__RTC_INTERFACE__RTC_INTERFACE_HPP_
+
+#ifdef COOPERATION_RTC_WITH_RCLCPP
+#include "rclcpp/rclcpp.hpp"
+
+#include "tier4_rtc_msgs/msg/auto_mode_status.hpp"
+#include "tier4_rtc_msgs/msg/command.hpp"
+#include "tier4_rtc_msgs/msg/cooperate_command.hpp"
+#include "tier4_rtc_msgs/msg/cooperate_response.hpp"
+#include "tier4_rtc_msgs/msg/cooperate_status.hpp"
+#include "tier4_rtc_msgs/msg/cooperate_status_array.hpp"
+#include "tier4_rtc_msgs/msg/module.hpp"
+#include "tier4_rtc_msgs/msg/state.hpp"
+#include "tier4_rtc_msgs/srv/auto_mode.hpp"
+#include "tier4_rtc_msgs/srv/cooperate_commands.hpp"
+#include <unique_identifier_msgs/msg/uuid.hpp>
+#else
+#include "cooperation/rtc/messages.hpp"
+#include "cooperation/rtc/node.hpp"
+#endif
+
+#include "cooperation/rtc/core.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace autoware::rtc_interface
+{
+using tier4_rtc_msgs::msg::AutoModeStatus;
+using tier4_rtc_msgs::msg::Command;
+using tier4_rtc_msgs::msg::CooperateCommand;
+using tier4_rtc_msgs::msg::CooperateResponse;
+using tier4_rtc_msgs::msg::CooperateStatus;
+using tier4_rtc_msgs::msg::CooperateStatusArray;
+using tier4_rtc_msgs::msg::Module;
+using tier4_rtc_msgs::msg::State;
+using tier4_rtc_msgs::srv::AutoMode;
+using tier4_rtc_msgs::srv::CooperateCommands;
+using unique_identifier_msgs::msg::UUID;
+
+namespace detail
+{
+inline cooperation::rtc::Stamp stamp_of(const builtin_interfaces::msg::Time & time)
+{
+  return {time.sec, time.nanosec};
+}
+inline builtin_interfaces::msg::Time time_of(cooperation::rtc::Stamp stamp)
+{
+  builtin_interfaces::msg::Time time;
+  time.sec = stamp.sec;
+  time.nanosec = stamp.nanosec;
+  return time;
+}
+inline cooperation::rtc::Bytes bytes_of(const UUID & uuid)
+{
+  cooperation::rtc::Bytes bytes{};
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    bytes[i] = uuid.uuid[i];
+  }
+  return bytes;
+}
+inline UUID uuid_of(const cooperation::rtc::Bytes & bytes)
+{
+  UUID uuid;
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    uuid.uuid[i] = bytes[i];
+  }
+  return uuid;
+}
+/// The UUID as 32 lowercase hexadecimal digits.
+inline std::string to_string(const cooperation::rtc::Bytes & bytes)
+{
+  std::string text;
+  char digits[3];
+  for (const auto byte : bytes) {
+    std::snprintf(digits, sizeof(digits), "%02x", static_cast<unsigned>(byte));
+    text += digits;
+  }
+  return text;
+}
+/// A lifecycle state's name; a number no constant has is written as a number (upstream throws).
+inline std::string state_name(uint8_t state)
+{
+  static const char * const names[] = {
+    "WAITING_FOR_EXECUTION", "RUNNING", "ABORTING", "SUCCEEDED", "FAILED"};
+  return state < 5 ? names[state] : "state " + std::to_string(state);
+}
+inline std::string command_name(uint8_t command)
+{
+  return command == Command::ACTIVATE     ? "ACTIVATE"
+         : command == Command::DEACTIVATE ? "DEACTIVATE"
+                                          : "command " + std::to_string(command);
+}
+
+#ifdef COOPERATION_RTC_WITH_RCLCPP
+inline cooperation::rtc::Stamp stamp_of(const rclcpp::Time & time)
+{
+  return stamp_of(static_cast<builtin_interfaces::msg::Time>(time));
+}
+inline void warn(const rclcpp::Logger & logger, const std::string & text)
+{
+  RCLCPP_WARN(logger, "%s", text.c_str());
+}
+inline void info(const rclcpp::Logger & logger, const std::string & text)
+{
+  RCLCPP_INFO(logger, "%s", text.c_str());
+}
+#else
+inline void warn(const cooperation::rtc::Logger & logger, const std::string & text)
+{
+  logger.warn(text);
+}
+inline void info(const cooperation::rtc::Logger & logger, const std::string & text)
+{
+  logger.info(text);
+}
+#endif
+}  // namespace detail
+
+/// Publishes the decision status of a planning module's scenes and receives the operator's
+/// commands for them; every answer comes from the node's verified core.
+template <class NodeT>
+class BasicRTCInterface
+{
+public:
+  /// The node's time type: `rclcpp::Time`, or `builtin_interfaces::msg::Time` without rclcpp.
+  using Time = decltype(std::declval<NodeT &>().now());
+
+  /// The interface `name` on `node`, with upstream's topics and services. `enable_rtc = false`
+  /// sets auto mode on: the interface's modules' policy becomes optional (true: required).
+  /// Interfaces of the same core module share its policy (`[COOP-DEV-AUTO-MODE-KEY.1]`), so
+  /// the last one made decides it. A name with no binding is logged and makes an interface
+  /// whose queries answer false and whose changes are refused with a warning
+  /// (`[COOP-DEV-INTERFACE-NAME.1]`); nothing throws.
+  BasicRTCInterface(NodeT * node, const std::string & name, const bool enable_rtc = true)
+  : node_(node), core_(static_cast<const void *>(node), name, enable_rtc)
+  {
+    module_.type = core_.module_type();
+    if (!core_.bound().ok) {
+      detail::warn(node_->get_logger(), "RTC interface " + name + ": " + core_.bound().warning);
+    }
+    pub_statuses_ = node_->template create_publisher<CooperateStatusArray>(
+      "/planning/cooperate_status/" + name, 1);
+    pub_auto_mode_status_ =
+      node_->template create_publisher<AutoModeStatus>("/planning/auto_mode_status/" + name, 1);
+    srv_commands_ = node_->template create_service<CooperateCommands>(
+      "/planning/cooperate_commands/" + name,
+      [this](
+        const typename CooperateCommands::Request::SharedPtr request,
+        typename CooperateCommands::Response::SharedPtr response) {
+        onCooperateCommandService(request, response);
+      });
+    srv_auto_mode_ = node_->template create_service<AutoMode>(
+      "/planning/enable_auto_mode/" + name,
+      [this](
+        const typename AutoMode::Request::SharedPtr request,
+        typename AutoMode::Response::SharedPtr response) { onAutoModeService(request, response); });
+    timer_ = node_->create_wall_timer(std::chrono::milliseconds(100), [this] { onTimer(); });
+  }
+
+  BasicRTCInterface(const BasicRTCInterface &) = delete;
+  BasicRTCInterface & operator=(const BasicRTCInterface &) = delete;
+
+  /// Publishes the interface's live scenes, in identifier order, each stamped with its owner's
+  /// last report (`stamp` less the scene's age).
+  void publishCooperateStatus(const Time & stamp)
+  {
+    CooperateStatusArray array;
+    array.stamp = detail::time_of(detail::stamp_of(stamp));
+    for (const auto & s : core_.statuses(detail::stamp_of(stamp))) {
+      CooperateStatus status;
+      status.stamp = detail::time_of(s.stamp);
+      status.uuid = detail::uuid_of(s.uuid);
+      status.module.type = s.module;
+      status.safe = s.safe;
+      status.requested = s.requested;
+      status.command_status.type = s.command;
+      status.state.type = s.state;
+      status.auto_mode = s.auto_mode;
+      status.start_distance = s.start_distance;
+      status.finish_distance = s.finish_distance;
+      array.statuses.push_back(status);
+    }
+    pub_statuses_->publish(array);
+  }
+
+  /// The owner reports a scene: registers it if it is not live (and moves it to `state` in the
+  /// same step where the lifecycle allows, `[COOP-DEV-REGISTER-PHASE.1]`), updates it otherwise.
+  /// `stamp` is not read: a scene's age counts from the core's last report of it
+  /// (`[COOP-DEV-EXPIRY.1]`). `override_rtc_auto_mode` is honoured where it agrees with the
+  /// module's policy, and otherwise logged: auto mode is a module's policy, not a scene's
+  /// (`[COOP-DEV-AUTO-MODE-KEY.1]`). A refusal changes nothing and is logged
+  /// (`[COOP-DEV-SILENT-DROP.1]`).
+  void updateCooperateStatus(
+    const UUID & uuid, const bool safe, const uint8_t state, const double start_distance,
+    const double finish_distance, const Time & stamp, const bool requested = false,
+    const std::optional<bool> & override_rtc_auto_mode = std::nullopt)
+  {
+    update(
+      std::nullopt, uuid, safe, state, start_distance, finish_distance, stamp, requested,
+      override_rtc_auto_mode);
+  }
+
+  /// `updateCooperateStatus` stating the scene's sequence (`"change"`, `"return"`), which an
+  /// interface bound to several (the avoidances) needs to register a scene
+  /// (`[COOP-DEV-SEQUENCE.1]`). Not in upstream.
+  void updateCooperateStatusIn(
+    const std::string & sequence, const UUID & uuid, const bool safe, const uint8_t state,
+    const double start_distance, const double finish_distance, const Time & stamp,
+    const bool requested = false)
+  {
+    update(sequence, uuid, safe, state, start_distance, finish_distance, stamp, requested, {});
+  }
+
+  /// Removes the scene; its identifier is never registered again (`[COOP-DEV-ID-REUSE.1]`).
+  void removeCooperateStatus(const UUID & uuid) { logged("remove", uuid, core_.remove(detail::bytes_of(uuid))); }
+
+  /// Tells the node's core the node's time: scenes not reported for the core's TTL (10 s by
+  /// default) expire, and are logged. Every interface of the node may call it each cycle; time
+  /// passes once (`[COOP-DEV-EXPIRY.1]`).
+  void removeExpiredCooperateStatus()
+  {
+    for (const auto & expired : core_.advance(detail::stamp_of(node_->now()))) {
+      detail::info(node_->get_logger(), "uuid : " + detail::to_string(expired) + " expired");
+    }
+  }
+
+  /// Removes every live scene of this interface, all or none.
+  void clearCooperateStatus()
+  {
+    const auto result = core_.clear();
+    if (!result.ok) {
+      detail::warn(node_->get_logger(), core_.name() + ": clear refused: " + result.warning);
+    }
+  }
+
+  /// The core's merged decision is activate; false for a scene that is not live, as upstream.
+  bool isActivated(const UUID & uuid) const { return core_.is_activated(detail::bytes_of(uuid)); }
+  /// The operator activated what the module would not (`[COOP-DEV-FORCE.1]`).
+  bool isForceActivated(const UUID & uuid) const
+  {
+    return core_.is_force_activated(detail::bytes_of(uuid));
+  }
+  /// The operator deactivated what the module would do (`[COOP-DEV-FORCE.1]`).
+  bool isForceDeactivated(const UUID & uuid) const
+  {
+    return core_.is_force_deactivated(detail::bytes_of(uuid));
+  }
+  /// The scene is live and registered through this interface.
+  bool isRegistered(const UUID & uuid) const { return core_.is_registered(detail::bytes_of(uuid)); }
+  /// The scene waits for the operator; false for a scene that is not live, where upstream
+  /// answers its auto-mode flag (`[COOP-DEV-UNKNOWN-QUERY.1]`).
+  bool isRTCEnabled(const UUID & uuid) const
+  {
+    return core_.is_rtc_enabled(detail::bytes_of(uuid)).value_or(false);
+  }
+  /// The scene succeeded or failed (it retired then, `[COOP-DEV-TERMINAL.1]`); false for one
+  /// this interface never registered, where upstream answers its auto-mode flag
+  /// (`[COOP-DEV-UNKNOWN-QUERY.1]`).
+  bool isTerminated(const UUID & uuid) const
+  {
+    return core_.is_terminated(detail::bytes_of(uuid)).value_or(false);
+  }
+
+  /// Does nothing: commands apply at once, under the core's lock, and none is stored to apply
+  /// later (`[COOP-DEV-STORED-COMMANDS.1]`, `[COOP-DEV-RACE.1]`).
+  void lockCommandUpdate() {}
+  /// Does nothing (see `lockCommandUpdate`).
+  void unlockCommandUpdate() {}
+
+  /// Logs each live scene: uuid, command, safe, state.
+  void print() const
+  {
+    for (const auto & s : core_.statuses(detail::stamp_of(node_->now()))) {
+      detail::info(
+        node_->get_logger(), "uuid : " + detail::to_string(s.uuid) +
+                               " command : " + detail::command_name(s.command) +
+                               " safe : " + (s.safe ? "true" : "false") +
+                               " state : " + detail::state_name(s.state));
+    }
+  }
+
+  /// The interface in the core: whether its name is bound, and the calls beneath this class.
+  const cooperation::rtc::InterfaceCore & core() const { return core_; }
+
+private:
+  void update(
+    const std::optional<std::string> & sequence, const UUID & uuid, const bool safe,
+    const uint8_t state, const double start_distance, const double finish_distance, const Time &,
+    const bool requested, const std::optional<bool> & override_rtc_auto_mode)
+  {
+    const auto bytes = detail::bytes_of(uuid);
+    if (
+      override_rtc_auto_mode && !core_.is_registered(bytes) &&
+      *override_rtc_auto_mode != core_.auto_mode_status()) {
+      detail::warn(
+        node_->get_logger(), "uuid : " + detail::to_string(bytes) +
+                               " override_rtc_auto_mode is not honoured: a scene follows its "
+                               "module's policy [COOP-DEV-AUTO-MODE-KEY.1]");
+    }
+    logged(
+      "update", uuid,
+      core_.update(bytes, safe, state, start_distance, finish_distance, requested, sequence));
+  }
+
+  void logged(const char * what, const UUID & uuid, const cooperation::rtc::Result & result) const
+  {
+    if (!result.ok) {
+      detail::warn(
+        node_->get_logger(), "uuid : " + detail::to_string(detail::bytes_of(uuid)) + " " + what +
+                               " refused: " + result.warning);
+    }
+  }
+
+  void onCooperateCommandService(
+    const typename CooperateCommands::Request::SharedPtr request,
+    const typename CooperateCommands::Response::SharedPtr response)
+  {
+    std::vector<cooperation::rtc::CommandIn> commands;
+    for (const auto & command : request->commands) {
+      commands.push_back({detail::bytes_of(command.uuid), command.module.type, command.command.type});
+    }
+    // [COOP-DEV-BATCH.1]: every response says whether the batch applied.
+    const auto result = core_.cooperate_commands(commands);
+    for (const auto & command : request->commands) {
+      CooperateResponse answer;
+      answer.uuid = command.uuid;
+      answer.module = command.module;
+      answer.success = result.ok;
+      response->responses.push_back(answer);
+    }
+    if (!result.ok) {
+      detail::warn(node_->get_logger(), core_.name() + ": commands refused: " + result.warning);
+    }
+  }
+
+  void onAutoModeService(
+    const typename AutoMode::Request::SharedPtr request,
+    const typename AutoMode::Response::SharedPtr response)
+  {
+    const auto result = core_.auto_mode(request->enable);
+    response->success = result.ok;
+    if (!result.ok) {
+      detail::warn(node_->get_logger(), core_.name() + ": auto mode refused: " + result.warning);
+    }
+  }
+
+  void onTimer()
+  {
+    AutoModeStatus status;
+    status.module = module_;
+    status.is_auto_mode = core_.auto_mode_status();
+    pub_auto_mode_status_->publish(status);
+  }
+
+  using CooperateStatusPublisherPtr =
+    decltype(std::declval<NodeT *>()->template create_publisher<CooperateStatusArray>(
+      std::string{}, 1));
+  using AutoModeStatusPublisherPtr =
+    decltype(std::declval<NodeT *>()->template create_publisher<AutoModeStatus>(std::string{}, 1));
+
+  NodeT * node_;
+  cooperation::rtc::InterfaceCore core_;
+  Module module_;
+  CooperateStatusPublisherPtr pub_statuses_;
+  AutoModeStatusPublisherPtr pub_auto_mode_status_;
+  std::shared_ptr<void> srv_commands_;
+  std::shared_ptr<void> srv_auto_mode_;
+  std::shared_ptr<void> timer_;
+};
+
+#ifdef COOPERATION_RTC_WITH_RCLCPP
+using RTCInterface = BasicRTCInterface<rclcpp::Node>;
+#else
+using RTCInterface = BasicRTCInterface<cooperation::rtc::Node>;
+#endif
+
+}  // namespace autoware::rtc_interface
+
+#endif  // AUTOWARE__RTC_INTERFACE__RTC_INTERFACE_HPP_

@@ -1,0 +1,76 @@
+// The plain node's clock, logger, endpoints and timers.
+#include "cooperation/rtc/node.hpp"
+
+#include <iostream>
+
+namespace cooperation::rtc
+{
+Logger::Logger(std::string node)
+: node_(std::move(node)),
+  sink_(std::make_shared<Sink>([](Level level, const std::string & node, const std::string & text) {
+    std::cerr << (level == Level::Warn ? "[WARN] [" : "[INFO] [") << node << "]: " << text
+              << '\n';
+  }))
+{
+}
+
+void Logger::info(const std::string & text) const { (*sink_)(Level::Info, node_, text); }
+void Logger::warn(const std::string & text) const { (*sink_)(Level::Warn, node_, text); }
+void Logger::set_sink(Sink sink) { sink_ = std::make_shared<Sink>(std::move(sink)); }
+
+Timer::Timer(std::chrono::nanoseconds period, std::function<void()> callback)
+: period_(period), callback_(std::move(callback))
+{
+}
+std::chrono::nanoseconds Timer::period() const { return period_; }
+void Timer::fire() const { callback_(); }
+
+Node::Node(std::string name) : name_(std::move(name)), logger_(name_) {}
+
+const std::string & Node::get_name() const { return name_; }
+
+builtin_interfaces::msg::Time Node::now() const
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return now_;
+}
+
+void Node::set_now(builtin_interfaces::msg::Time now)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  now_ = now;
+}
+
+Logger & Node::get_logger() { return logger_; }
+
+Timer::SharedPtr Node::create_wall_timer(
+  std::chrono::nanoseconds period, std::function<void()> callback)
+{
+  auto timer = std::make_shared<Timer>(period, std::move(callback));
+  const std::lock_guard<std::mutex> lock(mutex_);
+  timers_.push_back(timer);
+  return timer;
+}
+
+void Node::fire_timers()
+{
+  std::vector<Timer::SharedPtr> live;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto & timer : timers_) {
+      if (auto held = timer.lock()) {
+        live.push_back(held);
+      }
+    }
+  }
+  for (const auto & timer : live) {
+    timer->fire();
+  }
+}
+
+void Node::remember(const std::string & name, std::type_index type, std::shared_ptr<void> handle)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  endpoints_.insert_or_assign(name, Endpoint{type, handle});
+}
+}  // namespace cooperation::rtc

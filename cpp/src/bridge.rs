@@ -1,0 +1,162 @@
+//! The bridge: the types that cross between C++ and Rust, and the functions C++ calls. Each
+//! function is implemented in `calls.rs` (or `timing.rs`, for the benchmark) and is one call on
+//! the shared core.
+
+// `update` takes upstream's seven arguments, the interface and the sequence.
+#![allow(clippy::too_many_arguments)]
+
+use crate::calls::*;
+use crate::timing::time_rust_calls;
+
+/// The declarations `cxx` turns into `cooperation-cpp/src/bridge.rs.h`, in C++ namespace
+/// `cooperation::bridge`.
+#[cxx::bridge(namespace = "cooperation::bridge")]
+pub mod ffi {
+    /// A scene's 16-byte identifier, as `unique_identifier_msgs/UUID` carries it.
+    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+    struct Uuid {
+        /// The bytes, most significant first.
+        bytes: [u8; 16],
+    }
+
+    /// A time, as `builtin_interfaces/Time` carries it.
+    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+    struct Stamp {
+        /// Seconds.
+        sec: i32,
+        /// Nanoseconds within the second.
+        nanosec: u32,
+    }
+
+    /// What a call that changes the core did: `ok`, or the reason it changed nothing.
+    #[derive(Clone, PartialEq, Eq, Debug)]
+    struct Outcome {
+        /// The call applied.
+        ok: bool,
+        /// Why it did not (empty when it did): the adapter's explanation, for a warning.
+        warning: String,
+    }
+
+    /// A yes-or-no answer that may have none: `known` is false where the adapter answers
+    /// `None` (`[COOP-DEV-UNKNOWN-QUERY.1]`).
+    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+    struct Flag {
+        /// The adapter has an answer.
+        known: bool,
+        /// The answer, when it has one (false otherwise).
+        value: bool,
+    }
+
+    /// One `tier4_rtc_msgs/CooperateStatus`, its constants as their numbers.
+    #[derive(Clone, Copy, PartialEq, Debug)]
+    struct Status {
+        /// The owner's last report.
+        stamp: Stamp,
+        /// The scene.
+        uuid: Uuid,
+        /// `Module.type`.
+        module: u8,
+        /// The module decision is activate.
+        safe: bool,
+        /// The owner asks the operator explicitly.
+        requested: bool,
+        /// `command_status.type`.
+        command: u8,
+        /// `state.type`.
+        state: u8,
+        /// The scene proceeds on the module's judgment.
+        auto_mode: bool,
+        /// Distance to the start of its section, in metres.
+        start_distance: f32,
+        /// Distance to the end of its section, in metres.
+        finish_distance: f32,
+    }
+
+    /// One `tier4_rtc_msgs/CooperateCommand`, its constants as their numbers.
+    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+    struct CommandIn {
+        /// The scene.
+        uuid: Uuid,
+        /// `module.type`.
+        module: u8,
+        /// `command.type`.
+        command: u8,
+    }
+
+    /// One call's cost in the benchmark's Rust baseline.
+    #[derive(Clone, PartialEq, Debug)]
+    struct CallCost {
+        /// The upstream method the call stands for.
+        method: String,
+        /// Nanoseconds per call.
+        nanos: f64,
+    }
+
+    extern "Rust" {
+        /// One node's core: its state, RTC interfaces and clock, behind one lock.
+        type Core;
+
+        /// A core with the standard interface bindings and the core's default limits, every
+        /// module's policy required until an interface says otherwise. `quota` is the most live
+        /// scenes one interface may hold (0: no quota).
+        fn new_core(quota: usize) -> Result<Box<Core>>;
+        /// Binds the interface `name` and sets its modules' policy as upstream's `enable_rtc`
+        /// constructor argument does.
+        fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome;
+        /// The module type the interface's statuses carry (0, `NONE`, if it is not bound).
+        fn module_type(core: &Core, name: &str) -> u8;
+        /// `updateCooperateStatus`; `sequence` is stated when `stated` is true.
+        fn update(
+            core: &Core,
+            name: &str,
+            uuid: &Uuid,
+            safe: bool,
+            state: u8,
+            start_distance: f64,
+            finish_distance: f64,
+            requested: bool,
+            stated: bool,
+            sequence: &str,
+        ) -> Outcome;
+        /// `removeCooperateStatus`.
+        fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome;
+        /// `clearCooperateStatus`.
+        fn clear(core: &Core, name: &str) -> Outcome;
+        /// Tells the core the node's clock reads `now`; answers the scenes that expired.
+        fn advance(core: &Core, now: Stamp) -> Vec<Uuid>;
+        /// `isRegistered`.
+        fn is_registered(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        /// `isActivated`.
+        fn is_activated(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        /// `isForceActivated`.
+        fn is_force_activated(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        /// `isForceDeactivated`.
+        fn is_force_deactivated(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        /// `isRTCEnabled`.
+        fn is_rtc_enabled(core: &Core, name: &str, uuid: &Uuid) -> Flag;
+        /// `isTerminated`.
+        fn is_terminated(core: &Core, name: &str, uuid: &Uuid) -> Flag;
+        /// The statuses `publishCooperateStatus` publishes.
+        fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status>;
+        /// The interface's auto-mode status.
+        fn auto_mode_status(core: &Core, name: &str) -> bool;
+        /// The interface's `CooperateCommands` service; every command's `success` is `ok`.
+        fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Outcome;
+        /// The interface's `AutoMode` service.
+        fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome;
+
+        /// The benchmark's Rust baseline: the same calls as the C++ class makes, through
+        /// `cooperation_ros` directly, with `scenes` live scenes, `rounds` times each.
+        fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost>;
+    }
+
+    unsafe extern "C++" {
+        include!("cpp/lib/annotate.hpp");
+
+        /// The lock of the core at `address` was just taken (for ThreadSanitizer, which cannot
+        /// see Rust's lock; a no-op otherwise).
+        fn lock_acquired(address: usize);
+        /// The lock of the core at `address` is about to be let go.
+        fn lock_releasing(address: usize);
+    }
+}

@@ -1,0 +1,397 @@
+//! The bridge's functions: each is one call of `cooperation_ros` on a node's [`Core`], its
+//! arguments converted in and its answer converted out.
+
+use std::sync::OnceLock;
+
+use cooperation::{Config, SceneId, Sequence, State};
+use cooperation_ros::rtc::{
+    self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, Rtc, RtcError, StatusReport,
+};
+use cooperation_ros::{Host, Shared, Time};
+
+use crate::bridge::ffi::{self, CommandIn, Flag, Outcome, Stamp, Status, Uuid};
+
+/// One node's core: the state, the RTC interfaces' routing and the clock the core was last told
+/// of, behind one lock ([`Shared`]), shared by every interface of the node (in C++, by every
+/// `RTCInterface` built on the same node) and by its service callbacks.
+#[derive(Debug)]
+pub struct Core {
+    shared: Shared,
+    /// The node's first clock reading, in nanoseconds: the core's time 0.
+    origin_ns: OnceLock<i64>,
+}
+
+impl Core {
+    /// A core with the standard bindings (each module's policy required), the core's default
+    /// limits and, if `quota` is not 0, that scene quota per interface.
+    ///
+    /// # Errors
+    /// The core's refusal of the configuration.
+    pub fn new(quota: usize) -> Result<Self, cooperation::ConfigError> {
+        let mut rtc = Rtc::standard();
+        if quota > 0 {
+            rtc = rtc.with_scene_quota(quota);
+        }
+        let state = State::new(Config::new(rtc.policies(true)))?;
+        Ok(Self {
+            shared: Shared::new(Host::new(state, rtc)),
+            origin_ns: OnceLock::new(),
+        })
+    }
+
+    /// The shared core, for a Rust caller in the same process.
+    #[must_use]
+    pub const fn shared(&self) -> &Shared {
+        &self.shared
+    }
+}
+
+impl Core {
+    /// Runs `change` under the core's lock, telling ThreadSanitizer of the lock.
+    fn change<R>(&self, change: impl FnOnce(&mut Host) -> R) -> R {
+        let address = std::ptr::from_ref(self) as usize;
+        self.shared.update(|host| {
+            ffi::lock_acquired(address);
+            let answer = change(host);
+            ffi::lock_releasing(address);
+            answer
+        })
+    }
+
+    /// Runs `query` under the core's lock, telling ThreadSanitizer of the lock.
+    fn query<R>(&self, query: impl FnOnce(&Host) -> R) -> R {
+        let address = std::ptr::from_ref(self) as usize;
+        self.shared.read(|host| {
+            ffi::lock_acquired(address);
+            let answer = query(host);
+            ffi::lock_releasing(address);
+            answer
+        })
+    }
+}
+
+pub(crate) fn new_core(quota: usize) -> Result<Box<Core>, cooperation::ConfigError> {
+    Core::new(quota).map(Box::new)
+}
+
+fn outcome<T>(result: Result<T, RtcError>) -> Outcome {
+    match result {
+        Ok(_) => Outcome {
+            ok: true,
+            warning: String::new(),
+        },
+        Err(error) => Outcome {
+            ok: false,
+            warning: error.to_string(),
+        },
+    }
+}
+
+fn id(uuid: &Uuid) -> SceneId {
+    rtc::Uuid { uuid: uuid.bytes }.into()
+}
+
+fn uuid(id: SceneId) -> Uuid {
+    Uuid {
+        bytes: rtc::Uuid::from(id).uuid,
+    }
+}
+
+const fn time(stamp: Stamp) -> Time {
+    Time::new(stamp.sec, stamp.nanosec)
+}
+
+pub(crate) fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome {
+    core.change(|host| {
+        outcome(host.interface(name).and_then(|mut interface| {
+            interface
+                .auto_mode(&AutoModeRequest {
+                    enable: !enable_rtc,
+                })
+                .result
+        }))
+    })
+}
+
+pub(crate) fn module_type(core: &Core, name: &str) -> u8 {
+    core.query(|host| {
+        host.rtc()
+            .bindings()
+            .iter()
+            .find(|binding| binding.name == name)
+            .map_or(rtc::Module::NONE, |binding| {
+                rtc::Module::from(binding.module_type).r#type
+            })
+    })
+}
+
+/// A distance as the core's reports carry it. A double beyond `f32`'s range becomes an infinity,
+/// which the core takes as it takes every distance, NaN included (they order after every
+/// number).
+#[allow(clippy::cast_possible_truncation)]
+const fn metres(distance: f64) -> f32 {
+    distance as f32
+}
+
+#[allow(clippy::too_many_arguments)] // Upstream's arguments, and the sequence.
+pub(crate) fn update(
+    core: &Core,
+    name: &str,
+    uuid: &Uuid,
+    safe: bool,
+    state: u8,
+    start_distance: f64,
+    finish_distance: f64,
+    requested: bool,
+    stated: bool,
+    sequence: &str,
+) -> Outcome {
+    let report = rtc::Lifecycle::new(state)
+        .phase()
+        .map_err(|e| RtcError::from(e.within("state")))
+        .map(|phase| StatusReport {
+            requested,
+            ..StatusReport::new(
+                id(uuid),
+                safe,
+                phase,
+                metres(start_distance),
+                metres(finish_distance),
+            )
+        });
+    let report = match (report, stated) {
+        (Ok(report), true) => match Sequence::named(sequence) {
+            Ok(sequence) => Ok(report.in_sequence(sequence)),
+            Err(problem) => {
+                return Outcome {
+                    ok: false,
+                    warning: format!("sequence {sequence:?}: {problem}"),
+                }
+            }
+        },
+        (report, _) => report,
+    };
+    core.change(|host| {
+        outcome(report.and_then(|report| {
+            host.interface(name)?
+                .update_cooperate_status(&report)
+                .map(drop)
+        }))
+    })
+}
+
+pub(crate) fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome {
+    core.change(|host| {
+        outcome(
+            host.interface(name)
+                .and_then(|mut interface| interface.remove_cooperate_status(id(uuid))),
+        )
+    })
+}
+
+pub(crate) fn clear(core: &Core, name: &str) -> Outcome {
+    core.change(|host| {
+        outcome(
+            host.interface(name)
+                .and_then(|mut interface| interface.clear_cooperate_status()),
+        )
+    })
+}
+
+/// Nanoseconds since the epoch of the node's clock.
+fn nanos(stamp: Stamp) -> i64 {
+    i64::from(stamp.sec)
+        .saturating_mul(1_000_000_000)
+        .saturating_add(i64::from(stamp.nanosec))
+}
+
+pub(crate) fn advance(core: &Core, now: Stamp) -> Vec<Uuid> {
+    let now_ns = nanos(now);
+    let origin_ns = *core.origin_ns.get_or_init(|| now_ns);
+    // A reading before the first is a clock that went back: no time passes (`Host::advance_to`).
+    let now_ms = u64::try_from(now_ns.saturating_sub(origin_ns) / 1_000_000).unwrap_or(0);
+    core.change(|host| match host.advance_to(now_ms) {
+        Ok(Some(transition)) => transition.retired.into_iter().map(uuid).collect(),
+        // No time passed, or (never today) the core refused the tick.
+        Ok(None) | Err(_) => Vec::new(),
+    })
+}
+
+fn view<R>(core: &Core, name: &str, query: impl FnOnce(&rtc::View<'_>) -> R) -> Option<R> {
+    core.query(|host| host.view(name).ok().map(|view| query(&view)))
+}
+
+pub(crate) fn is_registered(core: &Core, name: &str, uuid: &Uuid) -> bool {
+    view(core, name, |view| view.is_registered(id(uuid))).unwrap_or(false)
+}
+
+pub(crate) fn is_activated(core: &Core, name: &str, uuid: &Uuid) -> bool {
+    view(core, name, |view| view.is_activated(id(uuid))).unwrap_or(false)
+}
+
+pub(crate) fn is_force_activated(core: &Core, name: &str, uuid: &Uuid) -> bool {
+    view(core, name, |view| view.is_force_activated(id(uuid))).unwrap_or(false)
+}
+
+pub(crate) fn is_force_deactivated(core: &Core, name: &str, uuid: &Uuid) -> bool {
+    view(core, name, |view| view.is_force_deactivated(id(uuid))).unwrap_or(false)
+}
+
+fn flag(answer: Option<Option<bool>>) -> Flag {
+    match answer.flatten() {
+        Some(value) => Flag { known: true, value },
+        None => Flag {
+            known: false,
+            value: false,
+        },
+    }
+}
+
+pub(crate) fn is_rtc_enabled(core: &Core, name: &str, uuid: &Uuid) -> Flag {
+    flag(view(core, name, |view| view.is_rtc_enabled(id(uuid))))
+}
+
+pub(crate) fn is_terminated(core: &Core, name: &str, uuid: &Uuid) -> Flag {
+    flag(view(core, name, |view| view.is_terminated(id(uuid))))
+}
+
+pub(crate) fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status> {
+    view(core, name, |view| {
+        view.cooperate_status_array(time(stamp))
+            .statuses
+            .iter()
+            .map(|status| Status {
+                stamp: Stamp {
+                    sec: status.stamp.sec,
+                    nanosec: status.stamp.nanosec,
+                },
+                uuid: Uuid {
+                    bytes: status.uuid.uuid,
+                },
+                module: status.module.r#type,
+                safe: status.safe,
+                requested: status.requested,
+                command: status.command_status.r#type,
+                state: status.state.r#type,
+                auto_mode: status.auto_mode,
+                start_distance: status.start_distance,
+                finish_distance: status.finish_distance,
+            })
+            .collect()
+    })
+    .unwrap_or_default()
+}
+
+pub(crate) fn auto_mode_status(core: &Core, name: &str) -> bool {
+    view(core, name, |view| view.auto_mode_status().is_auto_mode).unwrap_or(false)
+}
+
+pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Outcome {
+    let request = CooperateCommandsRequest {
+        stamp: Time::default(),
+        commands: commands
+            .iter()
+            .map(|command| CooperateCommand {
+                uuid: rtc::Uuid {
+                    uuid: command.uuid.bytes,
+                },
+                module: rtc::Module::new(command.module),
+                command: rtc::Command::new(command.command),
+            })
+            .collect(),
+    };
+    core.change(|host| {
+        outcome(
+            host.interface(name)
+                .and_then(|mut interface| interface.cooperate_commands(&request).result),
+        )
+    })
+}
+
+pub(crate) fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome {
+    core.change(|host| {
+        outcome(
+            host.interface(name)
+                .and_then(|mut interface| interface.auto_mode(&AutoModeRequest { enable }).result),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(n: u8) -> Uuid {
+        let mut bytes = [0; 16];
+        bytes[15] = n;
+        Uuid { bytes }
+    }
+
+    fn at(sec: i32) -> Stamp {
+        Stamp { sec, nanosec: 0 }
+    }
+
+    #[test]
+    fn the_first_reading_is_time_zero_and_time_never_goes_back() {
+        let core = Core::new(0).unwrap();
+        assert!(bind(&core, "crosswalk", true).ok);
+        // An epoch reading: had the core started at 0, every scene would expire at once.
+        assert!(advance(&core, at(1_700_000_000)).is_empty());
+        let id = scene(1);
+        assert!(update(&core, "crosswalk", &id, true, 0, 1.0, 1.0, false, false, "").ok);
+        assert!(advance(&core, at(1_700_000_009)).is_empty());
+        assert!(advance(&core, at(1_600_000_000)).is_empty(), "went back");
+        assert!(is_registered(&core, "crosswalk", &id));
+        assert_eq!(advance(&core, at(1_700_000_011)), vec![id]);
+        assert!(!is_registered(&core, "crosswalk", &id));
+    }
+
+    #[test]
+    fn refusals_are_explained_and_change_nothing() {
+        let core = Core::new(0).unwrap();
+        let id = scene(2);
+        let unbound = update(&core, "TestRTC", &id, true, 0, 1.0, 1.0, false, false, "");
+        assert!(
+            !unbound.ok && unbound.warning.contains("TestRTC"),
+            "{unbound:?}"
+        );
+        assert!(!bind(&core, "TestRTC", true).ok);
+        assert!(bind(&core, "static_obstacle_avoidance_left", true).ok);
+        let name = "static_obstacle_avoidance_left";
+        let bad = update(&core, name, &id, true, 0, 1.0, 1.0, false, true, "a b");
+        assert!(
+            !bad.ok && bad.warning.starts_with("sequence \"a b\""),
+            "{bad:?}"
+        );
+        let state = update(&core, name, &id, true, 9, 1.0, 1.0, false, true, "change");
+        assert!(
+            !state.ok && state.warning.contains("state.type is 9"),
+            "{state:?}"
+        );
+        assert!(!is_registered(&core, name, &id));
+        assert_eq!(
+            is_rtc_enabled(&core, name, &id),
+            Flag {
+                known: false,
+                value: false
+            }
+        );
+        assert!(update(&core, name, &id, true, 0, 1.0, 1.0, false, true, "change").ok);
+        assert_eq!(
+            is_rtc_enabled(&core, name, &id),
+            Flag {
+                known: true,
+                value: true
+            }
+        );
+        assert_eq!(module_type(&core, name), rtc::Module::AVOIDANCE_LEFT);
+        assert_eq!(module_type(&core, "TestRTC"), rtc::Module::NONE);
+    }
+
+    #[test]
+    fn the_benchmark_baseline_times_every_call() {
+        let costs = crate::timing::time_rust_calls(10, 10);
+        assert_eq!(costs.len(), 10);
+        assert!(costs.iter().all(|cost| cost.nanos > 0.0), "{costs:?}");
+    }
+}

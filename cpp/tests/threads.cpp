@@ -1,0 +1,103 @@
+// Two planner threads and an operator thread on one node: every report and every accepted
+// command lands, none is lost or half-applied (`[COOP-DEV-RACE.1]`). Run under ThreadSanitizer
+// by `tools/cpp` (docs/cpp.md).
+#include "check.hpp"
+
+#include <atomic>
+#include <thread>
+#include <tuple>
+
+using autoware::rtc_interface::Command;
+using autoware::rtc_interface::CooperateCommand;
+using autoware::rtc_interface::CooperateCommands;
+using autoware::rtc_interface::CooperateStatusArray;
+using autoware::rtc_interface::RTCInterface;
+using autoware::rtc_interface::State;
+using autoware::rtc_interface::UUID;
+
+namespace
+{
+constexpr unsigned kScenes = 300;
+constexpr unsigned kReports = 20;
+
+/// A planner: registers its scenes, then reports each `kReports` times, the distance growing,
+/// asking its interface each time, as a planning cycle does.
+void plan(RTCInterface & rtc, unsigned base, std::atomic<unsigned> & reported)
+{
+  for (unsigned report = 0; report < kReports; ++report) {
+    for (unsigned i = 0; i < kScenes; ++i) {
+      const UUID id = check::uuid(base + i);
+      (void)rtc.isActivated(id);
+      rtc.updateCooperateStatus(
+        id, false, State::WAITING_FOR_EXECUTION, i + report, i + report, check::at(0));
+      rtc.removeExpiredCooperateStatus();
+    }
+    reported.fetch_add(1);
+  }
+}
+
+/// The operator: activates every scene of `name`, one command a request, retrying those not
+/// registered yet, until each has been accepted once.
+void operate(cooperation::rtc::Node & node, const std::string & name, unsigned base)
+{
+  std::vector<bool> accepted(kScenes, false);
+  for (unsigned left = kScenes; left > 0;) {
+    for (unsigned i = 0; i < kScenes; ++i) {
+      if (accepted[i]) {
+        continue;
+      }
+      CooperateCommands::Request request;
+      CooperateCommand command;
+      command.uuid = check::uuid(base + i);
+      command.command.type = Command::ACTIVATE;
+      request.commands.push_back(command);
+      const auto reply = node.call<CooperateCommands>("/planning/cooperate_commands/" + name, request);
+      if (reply && reply->responses.size() == 1 && reply->responses[0].success) {
+        accepted[i] = true;
+        --left;
+      }
+    }
+  }
+}
+}  // namespace
+
+int main()
+{
+  cooperation::rtc::Node node("planner");
+  node.set_now(check::at(50));
+  check::Log log(node);
+  RTCInterface intersection(&node, "intersection", true);
+  RTCInterface crosswalk(&node, "crosswalk", true);
+  std::atomic<unsigned> reported{0};
+  {
+    std::thread a([&] { plan(intersection, 0, reported); });
+    std::thread b([&] { plan(crosswalk, 10000, reported); });
+    std::thread op([&] {
+      operate(node, "intersection", 0);
+      operate(node, "crosswalk", 10000);
+    });
+    a.join();
+    b.join();
+    op.join();
+  }
+  CHECK(reported.load() == 2 * kReports, "both planners finished");
+  CHECK(!log.warned("update refused"), "no report was refused");
+  for (const auto & [rtc, name, base] :
+       {std::tuple<RTCInterface *, std::string, unsigned>{&intersection, "intersection", 0},
+        {&crosswalk, "crosswalk", 10000}}) {
+    rtc->publishCooperateStatus(check::at(51));
+    const auto array = node.latest<CooperateStatusArray>("/planning/cooperate_status/" + name);
+    CHECK(array && array->statuses.size() == kScenes, name + ": every scene registered once");
+    bool last_reports = true;
+    bool activated = true;
+    for (unsigned i = 0; array && i < array->statuses.size(); ++i) {
+      const auto & status = array->statuses[i];
+      last_reports = last_reports && status.start_distance == float(i + kReports - 1);
+      activated = activated && status.command_status.type == Command::ACTIVATE &&
+                  rtc->isActivated(check::uuid(base + i));
+    }
+    CHECK(last_reports, name + ": each scene shows its planner's last report");
+    CHECK(activated, name + ": each scene shows the operator's accepted command");
+  }
+  return check::report("threads");
+}
