@@ -107,6 +107,10 @@ void one_core_per_node()
   CHECK(left.isRegistered(id) && !right.isRegistered(id), "a scene is its interface's");
   right.updateCooperateStatus(id, true, State::RUNNING, 1, 50, check::at(0));
   CHECK(log.warned("update refused"), "another interface's scene is refused [COOP-DEV-ID-REUSE.1]");
+  const auto foreign = node.call<CooperateCommands>(
+    "/planning/cooperate_commands/lane_change_right", commands({{id, Command::ACTIVATE}}));
+  CHECK(foreign && !foreign->responses[0].success && log.warned("commands refused"),
+        "a command for another interface's scene is refused");
   AutoMode::Request enable;
   enable.enable = true;
   node.call<AutoMode>("/planning/enable_auto_mode/lane_change_right", enable);
@@ -229,6 +233,19 @@ void sequences()
   CHECK(log.warned("update refused") && !avoidance.isRegistered(check::uuid(21)),
         "a sequence the interface does not bind is refused");
 }
+void a_quota_per_interface()
+{
+  Node node("planner");
+  check::Log log(node);
+  // The core is made by the first request for it: here, with a quota of one scene an interface.
+  const auto core = cooperation::rtc::core_of(&node, 1);
+  RTCInterface rtc(&node, "crosswalk", true);
+  rtc.updateCooperateStatus(check::uuid(1), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
+  rtc.updateCooperateStatus(check::uuid(2), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
+  CHECK(rtc.isRegistered(check::uuid(1)) && !rtc.isRegistered(check::uuid(2)),
+        "the second scene is over the quota [COOP-DEV-QUOTA.1]");
+  CHECK(log.warned("the most it may have"), "and the refusal says so");
+}
 }  // namespace
 
 int main()
@@ -239,5 +256,6 @@ int main()
   names_without_a_binding();
   hostile_arguments();
   sequences();
+  a_quota_per_interface();
   return check::report("interface");
 }
