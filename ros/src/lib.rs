@@ -53,6 +53,7 @@
 )]
 
 mod base64;
+pub mod cdr;
 mod host;
 mod path;
 pub mod rtc;

@@ -1,0 +1,91 @@
+//! The messages in CDR, as ROS 2 sends them over DDS: the same message types as the rosbridge
+//! JSON form ([`wire`](crate::wire), [`rtc`](crate::rtc)), written and read through their serde
+//! implementations, so that both forms come from one definition.
+//!
+//! The form is OMG's plain CDR (XCDR version 1), little-endian, as `rmw_cyclonedds_cpp` and
+//! `rmw_fastrtps_cpp` send ROS 2 messages: a four-byte encapsulation header (`00 01 00 00`),
+//! then each field in order, each primitive aligned to its size (at most 8) from the start of
+//! the data after the header; a reader ignores the padding's values. A string is a `u32` length counting a final NUL, its UTF-8 bytes
+//! and the NUL; a sequence (`T[]`, `T[<=N]`) is a `u32` count and its elements; a fixed array
+//! (`T[N]`, a Rust array) is its elements alone; a struct with no field (a service request
+//! with no argument) is one zero byte, the member ROS 2 adds to it. A UUID
+//! (`unique_identifier_msgs/UUID`, a struct named `Uuid` whose field is `uuid`) is its sixteen
+//! bytes, whether the Rust type holds them in a `Vec` or an array.
+//!
+//! Reading is strict, for bytes that come from any peer: a truncated message, a boolean that is
+//! neither 0 nor 1, a string without its final NUL, with another NUL or not UTF-8, a UUID that is not sixteen bytes, an
+//! unknown encapsulation, and more than three bytes left over are each a [`CdrError`] naming where it happened;
+//! a count is never trusted beyond the bytes that remain, so a short message cannot make the
+//! reader allocate much. Nothing here panics on any input.
+//!
+//! ```
+//! use cooperation_ros::cdr;
+//! use cooperation_ros::wire::{CooperationDecision, CooperationCommand, SetCooperationCommandsRequest, Uuid};
+//!
+//! let request = SetCooperationCommandsRequest {
+//!     commands: vec![CooperationCommand {
+//!         uuid: Uuid { uuid: (0..16).collect() },
+//!         cooperator: CooperationDecision { decision: CooperationDecision::ACTIVATE },
+//!     }],
+//! };
+//! let bytes = cdr::to_vec(&request)?;
+//! assert_eq!(bytes.len(), 4 + 4 + 16 + 1);
+//! assert_eq!(cdr::from_slice::<SetCooperationCommandsRequest>(&bytes)?, request);
+//!
+//! // A UUID of another length has no CDR form.
+//! let short = CooperationCommand { uuid: Uuid { uuid: vec![1, 2] }, ..CooperationCommand::default() };
+//! assert!(cdr::to_vec(&short).unwrap_err().to_string().contains("16 bytes"));
+//! # Ok::<(), cdr::CdrError>(())
+//! ```
+
+mod de;
+mod ser;
+
+use core::fmt;
+
+pub use de::from_slice;
+pub use ser::to_vec;
+
+/// The encapsulation header of little-endian plain CDR.
+pub const CDR_LE: [u8; 4] = [0, 1, 0, 0];
+
+/// Why a message could not be written or read.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct CdrError {
+    /// What went wrong.
+    pub message: String,
+    /// The offset in the data (after the encapsulation header) where it did.
+    pub offset: usize,
+}
+
+impl fmt::Display for CdrError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "CDR at byte {}: {}", self.offset, self.message)
+    }
+}
+
+impl std::error::Error for CdrError {}
+
+impl serde::ser::Error for CdrError {
+    fn custom<T: fmt::Display>(message: T) -> Self {
+        Self {
+            message: message.to_string(),
+            offset: 0,
+        }
+    }
+}
+
+impl serde::de::Error for CdrError {
+    fn custom<T: fmt::Display>(message: T) -> Self {
+        Self {
+            message: message.to_string(),
+            offset: 0,
+        }
+    }
+}
+
+/// The struct and field names serde gives a UUID: its sixteen bytes have no count in CDR.
+const UUID_STRUCT: &str = "Uuid";
+const UUID_FIELD: &str = "uuid";
+/// A UUID's length.
+const UUID_LEN: usize = 16;
