@@ -44,9 +44,7 @@ impl Core {
     pub const fn shared(&self) -> &Shared {
         &self.shared
     }
-}
 
-impl Core {
     /// Runs `change` under the core's lock, telling ThreadSanitizer of the lock.
     fn change<R>(&self, change: impl FnOnce(&mut Host) -> R) -> R {
         let address = std::ptr::from_ref(self) as usize;

@@ -53,6 +53,18 @@ impl Writer {
     }
 }
 
+/// The serializer methods for numbers: little-endian, aligned to their size.
+macro_rules! numbers {
+    ($($method:ident $ty:ty;)*) => {
+        $(
+            fn $method(self, v: $ty) -> Result<(), CdrError> {
+                self.put(&v.to_le_bytes());
+                Ok(())
+            }
+        )*
+    };
+}
+
 /// The serializer methods for shapes no message has.
 macro_rules! refuse {
     ($($method:ident($($arg:ty),*) -> $ok:ty;)*) => {
@@ -90,45 +102,10 @@ impl<'a> ser::Serializer for &'a mut Writer {
         self.put(&[u8::from(v)]);
         Ok(())
     }
-    fn serialize_i8(self, v: i8) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_i16(self, v: i16) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_i32(self, v: i32) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_i64(self, v: i64) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_u8(self, v: u8) -> Result<(), CdrError> {
-        self.put(&[v]);
-        Ok(())
-    }
-    fn serialize_u16(self, v: u16) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_u32(self, v: u32) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_u64(self, v: u64) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_f32(self, v: f32) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
-    }
-    fn serialize_f64(self, v: f64) -> Result<(), CdrError> {
-        self.put(&v.to_le_bytes());
-        Ok(())
+    numbers! {
+        serialize_i8 i8; serialize_i16 i16; serialize_i32 i32; serialize_i64 i64;
+        serialize_u8 u8; serialize_u16 u16; serialize_u32 u32; serialize_u64 u64;
+        serialize_f32 f32; serialize_f64 f64;
     }
     fn serialize_str(self, v: &str) -> Result<(), CdrError> {
         if v.as_bytes().contains(&0) {

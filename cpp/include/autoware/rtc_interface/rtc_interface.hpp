@@ -69,20 +69,12 @@ inline builtin_interfaces::msg::Time time_of(cooperation::rtc::Stamp stamp)
   time.nanosec = stamp.nanosec;
   return time;
 }
-inline cooperation::rtc::Bytes bytes_of(const UUID & uuid)
-{
-  cooperation::rtc::Bytes bytes{};
-  for (std::size_t i = 0; i < bytes.size(); ++i) {
-    bytes[i] = uuid.uuid[i];
-  }
-  return bytes;
-}
+// `UUID::uuid` is a `std::array<uint8_t, 16>`, generated or plain.
+inline cooperation::rtc::Bytes bytes_of(const UUID & uuid) { return uuid.uuid; }
 inline UUID uuid_of(const cooperation::rtc::Bytes & bytes)
 {
   UUID uuid;
-  for (std::size_t i = 0; i < bytes.size(); ++i) {
-    uuid.uuid[i] = bytes[i];
-  }
+  uuid.uuid = bytes;
   return uuid;
 }
 /// The UUID as 32 lowercase hexadecimal digits.
