@@ -54,11 +54,13 @@
 
 mod base64;
 pub mod cdr;
+pub mod clock;
 mod host;
 mod path;
 pub mod rtc;
 #[doc = include_str!("../../docs/settings.md")]
 pub mod settings;
+pub mod sync;
 mod time;
 pub mod wire;
 

@@ -18,6 +18,27 @@ pub const NO_MAXIMUM: Limits = Limits {
     max_batch: usize::MAX,
 };
 
+/// The repository's settings file (`config/cooperation.param.yaml`), built in: the settings of a
+/// node that is given no file.
+pub const BUILT_IN: &str = include_str!("../../config/cooperation.param.yaml");
+
+/// The settings file at `path`, or [`BUILT_IN`] for `None`, read and parsed as [`parse`] does.
+///
+/// # Errors
+/// A message naming the file (or "the built-in settings") and why it could not be read or
+/// parsed.
+pub fn load(path: Option<&std::path::Path>) -> Result<Config, String> {
+    let (text, source) = match path {
+        Some(path) => (
+            std::fs::read_to_string(path)
+                .map_err(|error| format!("{}: {error}", path.display()))?,
+            path.display().to_string(),
+        ),
+        None => (BUILT_IN.to_owned(), "the built-in settings".to_owned()),
+    };
+    parse(&text).map_err(|error| format!("{source}: {error}"))
+}
+
 /// Reads a settings file's text into a configuration that [`State::new`](cooperation::State::new)
 /// accepts.
 ///

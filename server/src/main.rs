@@ -9,9 +9,6 @@ use std::time::Duration;
 use clap::Parser;
 use cooperation_server::{Access, Credentials, Node, Options};
 
-/// The repository's settings, built in: the node's settings unless `--settings` names a file.
-const DEFAULT_SETTINGS: &str = include_str!("../../config/cooperation.param.yaml");
-
 /// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
 /// steering factors) and the planning modules' sync service over the rosbridge v2 protocol,
 /// and the operator panel at http://ADDR/.
@@ -91,19 +88,7 @@ async fn run(args: Args) -> Result<(), String> {
             args.rate
         ));
     }
-    let (text, source) = match &args.settings {
-        Some(path) => (
-            std::fs::read_to_string(path)
-                .map_err(|error| format!("{}: {error}", path.display()))?,
-            path.display().to_string(),
-        ),
-        None => (
-            DEFAULT_SETTINGS.to_owned(),
-            "the built-in settings".to_owned(),
-        ),
-    };
-    let config =
-        cooperation_ros::settings::parse(&text).map_err(|error| format!("{source}: {error}"))?;
+    let config = cooperation_ros::settings::load(args.settings.as_deref())?;
     let credentials = match &args.credentials {
         Some(path) => {
             let text = std::fs::read_to_string(path)

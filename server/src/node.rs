@@ -18,9 +18,9 @@ use cooperation_ros::{Host, Shared};
 use serde::Serialize;
 use tokio::sync::{watch, Notify};
 
-use crate::clock::Clock;
 use crate::scenes;
 use crate::sync::{self, SyncRequest, SyncResponse};
+use cooperation_ros::clock::Clock;
 
 /// The topics the node publishes.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -47,8 +47,8 @@ impl Topic {
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
-            Self::Velocity => "/api/planning/velocity_factors",
-            Self::Steering => "/api/planning/steering_factors",
+            Self::Velocity => wire::VELOCITY_FACTORS,
+            Self::Steering => wire::STEERING_FACTORS,
             Self::Scenes => scenes::NAME,
         }
     }
@@ -57,8 +57,8 @@ impl Topic {
     #[must_use]
     pub const fn type_name(self) -> &'static str {
         match self {
-            Self::Velocity => "autoware_adapi_v1_msgs/msg/VelocityFactorArray",
-            Self::Steering => "autoware_adapi_v1_msgs/msg/SteeringFactorArray",
+            Self::Velocity => wire::VELOCITY_FACTORS_TYPE,
+            Self::Steering => wire::STEERING_FACTORS_TYPE,
             Self::Scenes => scenes::TYPE,
         }
     }

@@ -18,6 +18,15 @@ use crate::Time;
 /// The coordinate frame of every pose the core reports.
 pub const FRAME_ID: &str = "map";
 
+/// The topic of [`velocity_factors`].
+pub const VELOCITY_FACTORS: &str = "/api/planning/velocity_factors";
+/// Its message type.
+pub const VELOCITY_FACTORS_TYPE: &str = "autoware_adapi_v1_msgs/msg/VelocityFactorArray";
+/// The topic of [`steering_factors`].
+pub const STEERING_FACTORS: &str = "/api/planning/steering_factors";
+/// Its message type.
+pub const STEERING_FACTORS_TYPE: &str = "autoware_adapi_v1_msgs/msg/SteeringFactorArray";
+
 /// `/api/planning/cooperation/set_commands` (`[COOP-API-SET-COMMANDS.1]`): converts the request
 /// and applies it as the core's `SetCommands`, all commands or none.
 ///
@@ -377,7 +386,13 @@ impl Service {
     /// fault's explanation, every other field at its default.
     #[must_use]
     pub fn refusal(self, malformed: &Malformed) -> Response {
-        let status = malformed.to_status();
+        self.refused(malformed.to_status())
+    }
+
+    /// This service's response with `status`, every other field at its default: a refusal
+    /// before the request reached the core.
+    #[must_use]
+    pub fn refused(self, status: ResponseStatus) -> Response {
         match self {
             Self::SetCommands => Response::SetCommands(SetCooperationCommandsResponse { status }),
             Self::SetPolicies => Response::SetPolicies(SetCooperationPoliciesResponse { status }),

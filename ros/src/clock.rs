@@ -7,7 +7,7 @@
 
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use cooperation_ros::Time;
+use crate::Time;
 
 /// Monotonic time since the node started, and header stamps derived from it.
 #[derive(Clone, Copy, Debug)]

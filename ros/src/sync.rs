@@ -1,0 +1,307 @@
+//! The planning modules' service, `/cooperation/rtc/sync`: one round trip per planning cycle,
+//! served by both nodes (rosbridge JSON and ROS 2 over DDS).
+//!
+//! A module sends every scene it reports this cycle as a `tier4_rtc_msgs/CooperateStatus` and
+//! the identifiers it removes; the node applies each through the module's RTC interface
+//! ([`crate::rtc::Interface`]) and answers with the interface's statuses and each live
+//! scene's merged decision. `docs/server.md` shows the shapes; [`SyncCooperateStatusRequest`] is the request's DDS form.
+
+use std::collections::BTreeMap;
+
+use crate::rtc::{CooperateStatus, CooperateStatusArray, Lifecycle, RtcError, Uuid};
+use crate::{Host, Time};
+use cooperation::{Scene, SceneId, Sequence};
+use serde::de::IgnoredAny;
+use serde::{Deserialize, Serialize};
+
+/// The service's name.
+pub const NAME: &str = "/cooperation/rtc/sync";
+/// The service's type.
+pub const TYPE: &str = "cooperation_server/srv/SyncCooperateStatus";
+
+/// The request.
+#[derive(Clone, PartialEq, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SyncRequest {
+    /// The RTC interface the module reports through, e.g. `lane_change_left`.
+    pub interface: String,
+    /// This cycle's statuses, applied in order, each as `updateCooperateStatus`.
+    #[serde(default)]
+    pub statuses: Vec<SyncStatus>,
+    /// The sequence of each new scene of an interface that binds several (the avoidances).
+    #[serde(default)]
+    pub sequences: Vec<StatedSequence>,
+    /// Scenes the module removes, after the statuses, each as `removeCooperateStatus`.
+    #[serde(default)]
+    pub removed: Vec<Uuid>,
+}
+
+/// One status a module reports: the fields of `tier4_rtc_msgs/CooperateStatus` the module owns.
+/// The fields the node fills (`stamp`, `module`, `command_status`, `auto_mode`) may be sent, as
+/// the message has them, and are not read.
+#[derive(Clone, PartialEq, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SyncStatus {
+    /// The scene.
+    pub uuid: Uuid,
+    /// The module's own judgment: the module decision is activate.
+    pub safe: bool,
+    /// The module asks for an operator decision.
+    #[serde(default)]
+    pub requested: bool,
+    /// The lifecycle state (`tier4_rtc_msgs/State`).
+    pub state: Lifecycle,
+    /// Distance to the start of the section the scene changes, in metres.
+    pub start_distance: f32,
+    /// Distance to its end, in metres.
+    pub finish_distance: f32,
+    #[serde(default)]
+    stamp: Option<IgnoredAny>,
+    #[serde(default)]
+    module: Option<IgnoredAny>,
+    #[serde(default)]
+    command_status: Option<IgnoredAny>,
+    #[serde(default)]
+    auto_mode: Option<IgnoredAny>,
+}
+
+impl SyncStatus {
+    /// The status as the RTC interface reads it.
+    #[must_use]
+    pub fn status(&self) -> CooperateStatus {
+        CooperateStatus {
+            uuid: self.uuid,
+            safe: self.safe,
+            requested: self.requested,
+            state: self.state,
+            start_distance: self.start_distance,
+            finish_distance: self.finish_distance,
+            ..CooperateStatus::default()
+        }
+    }
+}
+
+/// A scene's sequence.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StatedSequence {
+    /// The scene.
+    pub uuid: Uuid,
+    /// Its sequence, as the AD API writes it (`change`, `return`).
+    pub sequence: Sequence,
+}
+
+/// The request in its DDS form (`cooperation_server/srv/SyncCooperateStatus` over ROS 2): each
+/// status a whole `tier4_rtc_msgs/CooperateStatus`, since CDR has no optional field; the fields
+/// the node fills are not read, as in the JSON form.
+#[derive(Clone, PartialEq, Debug, Default, Serialize, Deserialize)]
+pub struct SyncCooperateStatusRequest {
+    /// As [`SyncRequest::interface`].
+    pub interface: String,
+    /// As [`SyncRequest::statuses`].
+    pub statuses: Vec<CooperateStatus>,
+    /// As [`SyncRequest::sequences`].
+    pub sequences: Vec<StatedSequence>,
+    /// As [`SyncRequest::removed`].
+    pub removed: Vec<Uuid>,
+}
+
+impl From<SyncCooperateStatusRequest> for SyncRequest {
+    fn from(request: SyncCooperateStatusRequest) -> Self {
+        Self {
+            interface: request.interface,
+            statuses: request.statuses.iter().map(SyncStatus::from).collect(),
+            sequences: request.sequences,
+            removed: request.removed,
+        }
+    }
+}
+
+impl From<&CooperateStatus> for SyncStatus {
+    /// The fields a module owns; the ones the node fills are dropped.
+    fn from(status: &CooperateStatus) -> Self {
+        Self {
+            uuid: status.uuid,
+            safe: status.safe,
+            requested: status.requested,
+            state: status.state,
+            start_distance: status.start_distance,
+            finish_distance: status.finish_distance,
+            stamp: None,
+            module: None,
+            command_status: None,
+            auto_mode: None,
+        }
+    }
+}
+
+/// The response.
+#[derive(Clone, PartialEq, Debug, Default, Serialize, Deserialize)]
+pub struct SyncResponse {
+    /// Every status and removal applied.
+    pub success: bool,
+    /// Why the request as a whole was refused (an unknown interface, a malformed request);
+    /// empty otherwise.
+    pub message: String,
+    /// One result per status, then one per removal, in the request's order.
+    pub results: Vec<SyncResult>,
+    /// The interface's statuses after the sync, as upstream publishes them on
+    /// `/planning/cooperate_status/<interface>`.
+    pub statuses: CooperateStatusArray,
+    /// Each of the interface's live scenes' merged decision and force flags.
+    pub activations: Vec<Activation>,
+}
+
+/// What became of one status or removal.
+#[derive(Clone, PartialEq, Eq, Debug, Serialize, Deserialize)]
+pub struct SyncResult {
+    /// The scene.
+    pub uuid: Uuid,
+    /// It applied.
+    pub success: bool,
+    /// Why not, when it did not.
+    pub message: String,
+}
+
+/// A live scene's merged decision: what upstream's `isActivated` and the force queries answer.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize, Deserialize)]
+pub struct Activation {
+    /// The scene.
+    pub uuid: Uuid,
+    /// The merged decision is activate.
+    pub activated: bool,
+    /// An operator activated it.
+    pub force_activated: bool,
+    /// An operator deactivated it.
+    pub force_deactivated: bool,
+}
+
+/// What a sync did to the core.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct Effect {
+    /// The core changed (a report also renews its scene's time to live).
+    pub changed: bool,
+    /// A change the factor streams show: a scene registered, retired, or reported with
+    /// anything other than its age different. Only this is worth a publication of its own.
+    pub shown: bool,
+}
+
+/// What the factor streams show of a scene: everything but its age.
+fn shown(scene: &Scene) -> impl PartialEq + '_ {
+    (
+        scene.module(),
+        scene.phase(),
+        scene.module_decision(),
+        scene.operator_decision(),
+        scene.is_requested(),
+        scene.geometry(),
+        scene.detail(),
+    )
+}
+
+/// A request's answer from the core, and what it did.
+pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, Effect) {
+    // One sync holds the node's lock while it applies: it carries no more entries than a
+    // command batch may.
+    let most = host.state().limits().max_batch;
+    let entries = request.statuses.len() + request.removed.len();
+    if entries > most {
+        let message = format!(
+            "{entries} statuses and removals, more than the {most} a sync may carry (the \
+             settings' max_batch)"
+        );
+        tracing::warn!("a sync refused: {message}");
+        return (refused(message), Effect::default());
+    }
+    let mut interface = match host.interface(&request.interface) {
+        Ok(interface) => interface,
+        Err(error) => return (refused(error.to_string()), Effect::default()),
+    };
+    let sequences: BTreeMap<Uuid, Sequence> = request
+        .sequences
+        .iter()
+        .map(|stated| (stated.uuid, stated.sequence))
+        .collect();
+    let mut effect = Effect::default();
+    let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
+    for status in &request.statuses {
+        let stated = sequences.get(&status.uuid).copied();
+        let before = interface.view().scene(SceneId::from(status.uuid)).cloned();
+        let outcome = status
+            .status()
+            .report()
+            .map_err(RtcError::from)
+            .map(|report| match stated {
+                Some(sequence) => report.in_sequence(sequence),
+                None => report,
+            })
+            .and_then(|report| interface.update_cooperate_status(&report))
+            .map(drop);
+        if let Err(error @ RtcError::SceneQuota { .. }) = &outcome {
+            tracing::warn!("a scene refused: {error}");
+        }
+        if outcome.is_ok() {
+            effect.changed = true;
+            let view = interface.view();
+            let after = view.scene(SceneId::from(status.uuid));
+            effect.shown |= before.as_ref().map(shown) != after.map(shown);
+        }
+        results.push(result(status.uuid, outcome));
+    }
+    for &uuid in &request.removed {
+        let outcome = interface
+            .remove_cooperate_status(SceneId::from(uuid))
+            .map(drop);
+        effect.changed |= outcome.is_ok();
+        effect.shown |= outcome.is_ok();
+        results.push(result(uuid, outcome));
+    }
+    let view = interface.view();
+    let statuses = view.cooperate_status_array(stamp);
+    let activations = statuses
+        .statuses
+        .iter()
+        .map(|status| {
+            let id = SceneId::from(status.uuid);
+            Activation {
+                uuid: status.uuid,
+                activated: view.is_activated(id),
+                force_activated: view.is_force_activated(id),
+                force_deactivated: view.is_force_deactivated(id),
+            }
+        })
+        .collect();
+    let response = SyncResponse {
+        success: results.iter().all(|result| result.success),
+        message: String::new(),
+        results,
+        statuses,
+        activations,
+    };
+    (response, effect)
+}
+
+fn result<E: ToString>(uuid: Uuid, outcome: Result<(), E>) -> SyncResult {
+    match outcome {
+        Ok(()) => SyncResult {
+            uuid,
+            success: true,
+            message: String::new(),
+        },
+        Err(error) => SyncResult {
+            uuid,
+            success: false,
+            message: error.to_string(),
+        },
+    }
+}
+
+/// A response refusing the request as a whole.
+#[must_use]
+pub fn refused(message: String) -> SyncResponse {
+    SyncResponse {
+        success: false,
+        message,
+        ..SyncResponse::default()
+    }
+}
