@@ -11,9 +11,12 @@
 //! - [`rtc`]: TIER IV's `tier4_rtc_msgs` messages and `rtc_interface` calls, answered from the
 //!   core; `docs/rtc.md` is the migration guide.
 //! - [`settings`]: the default policies and limits, from a ROS 2 parameter file.
+//! - [`cdr`]: the same messages in CDR, as ROS 2 sends them over DDS; [`dds`]: the services
+//!   as DDS carries them, from request bytes to reply bytes (`cooperation-ros2`).
+//! - [`sync`]: the planning modules' service of both nodes; [`clock`]: the nodes' one clock.
 //! - [`Host`] and [`Shared`]: the core with the RTC interfaces' routing and the time it was last
 //!   told, as one value, and that value behind one lock, for a process serving the core to
-//!   several callers (`cooperation-server`, a C++ planner).
+//!   several callers (`cooperation-server`, `cooperation-ros2`, a C++ planner).
 //!
 //! Every change still goes through [`cooperation::State::apply`] (or
 //! [`apply_all`](cooperation::State::apply_all), inputs applied all or none), the function the
@@ -55,6 +58,7 @@
 mod base64;
 pub mod cdr;
 pub mod clock;
+pub mod dds;
 mod host;
 mod path;
 pub mod rtc;

@@ -1,0 +1,88 @@
+//! Hostile bytes into the ROS 2 node's services over DDS (`cooperation_ros::dds`): the first
+//! byte picks the endpoint (`set_commands`, `set_policies`, `get_policies`, the modules' sync)
+//! and whether the rest is the whole sample as it arrived or only the message after a valid
+//! encapsulation and request header. No request may panic; a request that reads is answered,
+//! its reply carries the request's header and reads back as the endpoint's response; a refused
+//! or malformed request (and `get_policies`) leaves the node's core and RTC interfaces as they
+//! were; the core keeps its invariants.
+#![no_main]
+
+use std::sync::OnceLock;
+
+use cooperation::State;
+use cooperation_ros::dds::{self, Endpoint, Incoming, Outgoing, RequestHeader};
+use cooperation_ros::rtc::Rtc;
+use cooperation_ros::sync::SyncResponse;
+use cooperation_ros::wire::*;
+use cooperation_ros::{cdr, Host, Time};
+use libfuzzer_sys::fuzz_target;
+
+/// The node as it starts, with the built-in settings (read once).
+fn start() -> Host {
+    static START: OnceLock<Host> = OnceLock::new();
+    START
+        .get_or_init(|| {
+            let config = cooperation_ros::settings::load(None).expect("the built-in settings");
+            Host::new(State::new(config).expect("valid"), Rtc::standard())
+        })
+        .clone()
+}
+
+/// The reply reads back as the endpoint's response and writes the same bytes again (compared
+/// as bytes: a distance a module reported may be NaN, which equals nothing).
+fn reads_back(outgoing: &Outgoing, reply: &[u8]) {
+    fn again<T: serde::de::DeserializeOwned + serde::Serialize>(
+        bytes: &[u8],
+    ) -> Result<Vec<u8>, cdr::CdrError> {
+        cdr::to_vec(&cdr::from_slice::<T>(bytes)?)
+    }
+    let written = match outgoing {
+        Outgoing::Ad(Response::SetCommands(_)) => again::<SetCooperationCommandsResponse>(reply),
+        Outgoing::Ad(Response::SetPolicies(_)) => again::<SetCooperationPoliciesResponse>(reply),
+        Outgoing::Ad(Response::GetPolicies(_)) => again::<GetCooperationPoliciesResponse>(reply),
+        Outgoing::Sync(_) => again::<SyncResponse>(reply),
+    };
+    assert_eq!(written.as_deref(), Ok(reply), "the reply reads back as written");
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Some((&selector, rest)) = data.split_first() else {
+        return;
+    };
+    let endpoint = Endpoint::ALL[usize::from(selector % 4)];
+    let header = RequestHeader {
+        guid: u64::from(selector),
+        seq: 1,
+    };
+    let framed = if selector & 4 == 0 {
+        let mut message = cdr::CDR_LE.to_vec();
+        message.extend_from_slice(rest);
+        header.frame(&message)
+    } else {
+        rest.to_vec()
+    };
+    let mut host = start();
+    let Ok((read_header, incoming)) = endpoint.read(&framed) else {
+        return;
+    };
+    let malformed = matches!(incoming, Incoming::Malformed(..));
+    let before = host.clone();
+    let answered = dds::answer(&mut host, incoming, Time::default());
+    let reply = answered.outgoing.to_cdr().expect("every reply writes");
+    let framed_reply = read_header.frame(&reply);
+    let (echoed, body) = RequestHeader::split(&framed_reply).expect("the reply's header");
+    assert_eq!(echoed, read_header, "the reply carries the request's header");
+    reads_back(&answered.outgoing, &body);
+    // A sync that fails in part applied its other entries; one refused as a whole did nothing.
+    let refused = match &answered.outgoing {
+        Outgoing::Ad(response) => !response.status().success,
+        Outgoing::Sync(response) => !response.message.is_empty(),
+    };
+    let unchanged = malformed || refused || endpoint == Endpoint::Ad(Service::GetPolicies);
+    if unchanged {
+        assert!(host == before, "{endpoint:?}: a refusal changed the node");
+        assert!(!answered.changed);
+    }
+    assert_eq!(answered.changed, host != before, "changed is what happened");
+    assert_eq!(host.state().check_invariants(), Ok(()));
+});

@@ -1,0 +1,325 @@
+//! The services as the ROS 2 node serves them over DDS (`cooperation_ros::dds`): the DDS names
+//! and types `rmw_cyclonedds_cpp` gives them, the request header, and each service answered
+//! from request bytes to reply bytes, malformed requests included. The node itself is tested
+//! against Cyclone DDS by `tools/ros2-interop`.
+
+use cooperation::State;
+use cooperation_ros::cdr::{self, CDR_LE};
+use cooperation_ros::dds::{self, Endpoint, Incoming, Outgoing, RequestHeader};
+use cooperation_ros::rtc::{self, CooperateStatus, Rtc};
+use cooperation_ros::sync::{
+    StatedSequence, SyncCooperateStatusRequest, SyncRequest, SyncResponse,
+};
+use cooperation_ros::wire::*;
+use cooperation_ros::{Host, Time};
+
+fn host() -> Host {
+    let config = cooperation_ros::settings::load(None).expect("the built-in settings");
+    Host::new(State::new(config).expect("valid"), Rtc::standard())
+}
+
+const HEADER: RequestHeader = RequestHeader {
+    guid: 0x0102_0304_0506_0708,
+    seq: -2,
+};
+
+/// Frames `message`, reads it at `endpoint`, answers it, and reads the reply back.
+fn call<R: serde::de::DeserializeOwned>(
+    host: &mut Host,
+    endpoint: Endpoint,
+    message: &impl serde::Serialize,
+) -> (R, dds::Answered) {
+    let request = HEADER.frame(&cdr::to_vec(message).expect("encodes"));
+    let (header, incoming) = endpoint.read(&request).expect("a readable header");
+    assert_eq!(header, HEADER);
+    let answered = dds::answer(host, incoming, Time::new(5, 0));
+    let reply = HEADER.frame(&answered.outgoing.to_cdr().expect("encodes"));
+    let (header, body) = RequestHeader::split(&reply).expect("the reply's header");
+    assert_eq!(header, HEADER, "the reply carries the request's header");
+    (cdr::from_slice(&body).expect("the reply decodes"), answered)
+}
+
+fn scene(first: u8) -> rtc::Uuid {
+    rtc::Uuid {
+        uuid: core::array::from_fn(|i| first.wrapping_add(i as u8)),
+    }
+}
+
+fn status(uuid: rtc::Uuid, safe: bool) -> CooperateStatus {
+    CooperateStatus {
+        uuid,
+        safe,
+        state: rtc::Lifecycle::new(rtc::Lifecycle::WAITING_FOR_EXECUTION),
+        start_distance: 12.5,
+        finish_distance: 20.0,
+        // Fields the node fills: not read.
+        stamp: Time::new(1, 2),
+        command_status: rtc::Command::new(rtc::Command::ACTIVATE),
+        auto_mode: true,
+        ..CooperateStatus::default()
+    }
+}
+
+#[test]
+fn names_and_types_are_the_ones_rmw_cyclonedds_gives_them() {
+    let expected = [
+        (
+            "rq/api/planning/cooperation/set_commandsRequest",
+            "rr/api/planning/cooperation/set_commandsReply",
+            "autoware_adapi_v1_msgs::srv::dds_::SetCooperationCommands_Request_",
+            "autoware_adapi_v1_msgs::srv::dds_::SetCooperationCommands_Response_",
+        ),
+        (
+            "rq/api/planning/cooperation/set_policiesRequest",
+            "rr/api/planning/cooperation/set_policiesReply",
+            "autoware_adapi_v1_msgs::srv::dds_::SetCooperationPolicies_Request_",
+            "autoware_adapi_v1_msgs::srv::dds_::SetCooperationPolicies_Response_",
+        ),
+        (
+            "rq/api/planning/cooperation/get_policiesRequest",
+            "rr/api/planning/cooperation/get_policiesReply",
+            "autoware_adapi_v1_msgs::srv::dds_::GetCooperationPolicies_Request_",
+            "autoware_adapi_v1_msgs::srv::dds_::GetCooperationPolicies_Response_",
+        ),
+        (
+            "rq/cooperation/rtc/syncRequest",
+            "rr/cooperation/rtc/syncReply",
+            "cooperation_server::srv::dds_::SyncCooperateStatus_Request_",
+            "cooperation_server::srv::dds_::SyncCooperateStatus_Response_",
+        ),
+    ];
+    for (endpoint, (request, reply, request_type, reply_type)) in
+        Endpoint::ALL.into_iter().zip(expected)
+    {
+        assert_eq!(endpoint.request_topic(), request);
+        assert_eq!(endpoint.reply_topic(), reply);
+        assert_eq!(endpoint.request_type(), request_type);
+        assert_eq!(endpoint.reply_type(), reply_type);
+    }
+    assert_eq!(
+        dds::topic(VELOCITY_FACTORS),
+        "rt/api/planning/velocity_factors"
+    );
+    assert_eq!(
+        dds::type_name(STEERING_FACTORS_TYPE, ""),
+        "autoware_adapi_v1_msgs::msg::dds_::SteeringFactorArray_"
+    );
+}
+
+#[test]
+fn the_request_header_is_two_little_endian_integers_after_the_encapsulation() {
+    let message = cdr::to_vec(&GetCooperationPoliciesRequest {}).expect("encodes");
+    let framed = HEADER.frame(&message);
+    assert_eq!(
+        framed,
+        [
+            vec![0, 1, 0, 0],
+            vec![8, 7, 6, 5, 4, 3, 2, 1],
+            vec![0xfe, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff],
+            vec![0],
+        ]
+        .concat()
+    );
+    assert_eq!(
+        RequestHeader::split(&framed).expect("splits"),
+        (HEADER, message)
+    );
+    // Cyclone's padding options (the encapsulation's last two bytes) are accepted.
+    let mut padded = framed.clone();
+    padded[3] = 3;
+    padded.extend([0, 0, 0]);
+    assert_eq!(RequestHeader::split(&padded).expect("splits").0, HEADER);
+}
+
+#[test]
+fn a_request_without_its_headers_cannot_be_answered() {
+    let endpoint = Endpoint::Ad(Service::GetPolicies);
+    for short in [
+        &[][..],
+        &CDR_LE[..],
+        &[0, 1, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11][..],
+    ] {
+        let error = endpoint.read(short).expect_err("too short");
+        assert!(error.message.contains("fewer than the 20"), "{error}");
+    }
+    let mut big_endian = HEADER.frame(&cdr::to_vec(&GetCooperationPoliciesRequest {}).expect("ok"));
+    big_endian[1] = 0;
+    let error = endpoint.read(&big_endian).expect_err("big-endian");
+    assert!(error.message.contains("not little-endian"), "{error}");
+}
+
+#[test]
+fn a_malformed_request_is_refused_with_the_readers_explanation_and_changes_nothing() {
+    let mut host = host();
+    let before = host.state().clone();
+    for endpoint in Endpoint::ALL {
+        // A count of a million elements in a request of a few bytes, or a truncated field.
+        let framed = HEADER.frame(&[0, 1, 0, 0, 0x40, 0x42, 0x0f, 0x00, 1]);
+        let (header, incoming) = endpoint.read(&framed).expect("the header reads");
+        assert_eq!(header, HEADER);
+        assert!(
+            matches!(&incoming, Incoming::Malformed(e, _) if *e == endpoint),
+            "{incoming:?}"
+        );
+        let answered = dds::answer(&mut host, incoming, Time::default());
+        assert!(!answered.changed && !answered.shown);
+        let message = match &answered.outgoing {
+            Outgoing::Ad(response) => {
+                assert_eq!(response.status().code, ResponseStatus::PARAMETER_ERROR);
+                response.status().message.clone()
+            }
+            Outgoing::Sync(response) => response.message.clone(),
+        };
+        assert!(!answered.outgoing.success());
+        assert!(
+            message.starts_with("CDR at byte"),
+            "{endpoint:?}: {message}"
+        );
+    }
+    // A decision that is no constant: refused by the same reader the JSON form uses.
+    let request = SetCooperationCommandsRequest {
+        commands: vec![CooperationCommand {
+            uuid: Uuid {
+                uuid: scene(1).uuid.to_vec(),
+            },
+            cooperator: CooperationDecision { decision: 99 },
+        }],
+    };
+    let (response, answered): (SetCooperationCommandsResponse, _) =
+        call(&mut host, Endpoint::Ad(Service::SetCommands), &request);
+    assert!(!response.status.success && !answered.changed);
+    assert!(response.status.message.contains("99"), "{response:?}");
+    assert_eq!(host.state(), &before);
+}
+
+#[test]
+fn a_request_over_the_size_limit_is_refused_unread() {
+    let mut message = CDR_LE.to_vec();
+    message.resize(MAX_REQUEST_BYTES + 5, 0);
+    let (_, incoming) = Endpoint::Sync
+        .read(&HEADER.frame(&message))
+        .expect("the header reads");
+    match incoming {
+        Incoming::Malformed(Endpoint::Sync, error) => {
+            assert!(error.message.contains("more than the 1048576"), "{error}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_sync_request_in_cdr_reads_as_its_json_form_does() {
+    let request = SyncCooperateStatusRequest {
+        interface: "avoidance_left".to_owned(),
+        statuses: vec![status(scene(1), false)],
+        sequences: vec![StatedSequence {
+            uuid: scene(1),
+            sequence: cooperation::Sequence::Return,
+        }],
+        removed: vec![scene(9)],
+    };
+    let (_, incoming) = Endpoint::Sync
+        .read(&HEADER.frame(&cdr::to_vec(&request).expect("encodes")))
+        .expect("reads");
+    let json = format!(
+        r#"{{"interface": "avoidance_left",
+            "statuses": [{{"uuid": {{"uuid": {:?}}}, "safe": false,
+                           "state": {{"type": 0}}, "start_distance": 12.5, "finish_distance": 20.0}}],
+            "sequences": [{{"uuid": {{"uuid": {:?}}}, "sequence": "return"}}],
+            "removed": [{{"uuid": {:?}}}]}}"#,
+        scene(1).uuid,
+        scene(1).uuid,
+        scene(9).uuid
+    );
+    let from_json: SyncRequest = serde_json::from_str(&json).expect("the JSON form reads");
+    assert_eq!(incoming, Incoming::Sync(from_json));
+}
+
+#[test]
+fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
+    let mut host = host();
+    // The policies, as the settings file says.
+    let (policies, answered): (GetCooperationPoliciesResponse, _) = call(
+        &mut host,
+        Endpoint::Ad(Service::GetPolicies),
+        &GetCooperationPoliciesRequest {},
+    );
+    assert!(policies.status.success && !answered.changed);
+    assert_eq!(
+        policies.policies,
+        get_policies(host.state(), &GetCooperationPoliciesRequest {}).policies
+    );
+    assert!(!policies.policies.is_empty());
+
+    // A module reports a scene.
+    let report = SyncCooperateStatusRequest {
+        interface: "intersection".to_owned(),
+        statuses: vec![status(scene(1), false)],
+        ..SyncCooperateStatusRequest::default()
+    };
+    let (synced, answered): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &report);
+    assert!(synced.success, "{synced:?}");
+    assert!(answered.changed && answered.shown);
+    assert_eq!(synced.activations.len(), 1);
+    assert!(!synced.activations[0].activated);
+    let factors = velocity_factors(host.state(), Time::default());
+    assert_eq!(factors.factors.len(), 1);
+    assert_eq!(factors.factors[0].cooperation.len(), 1);
+
+    // The operator activates it; the module learns it on its next sync.
+    let command = SetCooperationCommandsRequest {
+        commands: vec![CooperationCommand {
+            uuid: Uuid {
+                uuid: scene(1).uuid.to_vec(),
+            },
+            cooperator: CooperationDecision {
+                decision: CooperationDecision::ACTIVATE,
+            },
+        }],
+    };
+    let (response, answered): (SetCooperationCommandsResponse, _) =
+        call(&mut host, Endpoint::Ad(Service::SetCommands), &command);
+    assert!(response.status.success, "{response:?}");
+    assert!(answered.changed && answered.shown);
+    let (synced, _): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &report);
+    let activation = synced.activations[0];
+    assert!(activation.activated && activation.force_activated && !activation.force_deactivated);
+
+    // A command for a scene nobody reported is refused, and changes nothing.
+    let before = host.state().clone();
+    let mut unknown = command.clone();
+    unknown.commands[0].uuid.uuid = scene(7).uuid.to_vec();
+    let (response, answered): (SetCooperationCommandsResponse, _) =
+        call(&mut host, Endpoint::Ad(Service::SetCommands), &unknown);
+    assert!(!response.status.success && !response.status.message.is_empty());
+    assert!(!answered.changed);
+    assert_eq!(host.state(), &before);
+
+    // The module removes it.
+    let removal = SyncCooperateStatusRequest {
+        interface: "intersection".to_owned(),
+        removed: vec![scene(1)],
+        ..SyncCooperateStatusRequest::default()
+    };
+    let (synced, answered): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &removal);
+    assert!(synced.success && answered.shown, "{synced:?}");
+    assert!(velocity_factors(host.state(), Time::default())
+        .factors
+        .is_empty());
+}
+
+#[test]
+fn an_unknown_interface_is_refused_as_a_whole() {
+    let mut host = host();
+    let request = SyncCooperateStatusRequest {
+        interface: "no_such_module".to_owned(),
+        statuses: vec![status(scene(1), true)],
+        ..SyncCooperateStatusRequest::default()
+    };
+    let (synced, answered): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &request);
+    assert!(
+        !synced.success && synced.message.contains("no_such_module"),
+        "{synced:?}"
+    );
+    assert!(!answered.changed);
+}
