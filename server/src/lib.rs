@@ -3,9 +3,9 @@
 //!
 //! One port serves a WebSocket for rosbridge clients (operators and planning modules) and,
 //! over plain HTTP, the operator panel. The verified core and its RTC interfaces sit behind
-//! one lock ([`cooperation_ros::Shared`]) in a [`Node`]; the node's clock ([`cooperation_ros::clock`]) is the
-//! only place time is read. `docs/server.md` describes the protocol, the planning modules' service and the
-//! limits.
+//! one lock ([`cooperation_ros::Shared`]) in a [`Node`]; the node's clock
+//! ([`cooperation_ros::clock`]) is the only place time is read. `docs/server.md` describes the
+//! protocol, the planning modules' service and the limits.
 
 #![deny(
     clippy::unwrap_used,
