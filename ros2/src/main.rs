@@ -40,7 +40,7 @@ struct Args {
     #[arg(long, default_value_t = 10.0)]
     rate: f64,
     /// Live scenes each RTC interface may hold.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = cooperation_ros::rtc::SCENE_QUOTA)]
     scene_quota: usize,
 }
 

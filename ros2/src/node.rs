@@ -23,7 +23,7 @@ use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::policy::{Durability, History, Reliability};
 use rustdds::{
     DataWriterStatus, DomainParticipant, DomainParticipantBuilder, Publisher, QosPolicies,
-    QosPolicyBuilder, RTPSEntity, StatusEvented, Subscriber, TopicKind, GUID,
+    QosPolicyBuilder, RTPSEntity, StatusEvented, Subscriber, Topic, TopicKind, GUID,
 };
 
 use crate::graph::{self, Distro, Gid, NodeEntitiesInfo, ParticipantEntitiesInfo};
@@ -67,7 +67,7 @@ impl Default for Options {
             namespace: "/".to_owned(),
             distro: Distro::Humble,
             publish_every: Duration::from_millis(100),
-            scene_quota: 256,
+            scene_quota: cooperation_ros::rtc::SCENE_QUOTA,
         }
     }
 }
@@ -120,33 +120,41 @@ fn participant(guid: GUID) -> [u8; 12] {
     guid.to_bytes().first_chunk().copied().unwrap_or_default()
 }
 
-fn qos(reliable: bool, transient_local: bool, depth: i32) -> QosPolicies {
-    let builder = QosPolicyBuilder::new()
-        .durability(if transient_local {
-            Durability::TransientLocal
-        } else {
-            Durability::Volatile
+/// Reliable, with `durability`, the newest `depth` samples kept.
+fn qos(durability: Durability, depth: i32) -> QosPolicies {
+    QosPolicyBuilder::new()
+        .reliability(Reliability::Reliable {
+            max_blocking_time: rustdds::Duration::from_millis(100),
         })
-        .history(History::KeepLast { depth });
-    if reliable {
-        builder
-            .reliability(Reliability::Reliable {
-                max_blocking_time: rustdds::Duration::from_millis(100),
-            })
-            .build()
-    } else {
-        builder.reliability(Reliability::BestEffort).build()
-    }
+        .durability(durability)
+        .history(History::KeepLast { depth })
+        .build()
 }
 
 /// The AD API's QoS for the factors: reliable, volatile, the newest one kept.
 fn factors_qos() -> QosPolicies {
-    qos(true, false, 1)
+    qos(Durability::Volatile, 1)
 }
 
 /// ROS 2's default QoS for services: reliable, volatile, ten kept.
 fn services_qos() -> QosPolicies {
-    qos(true, false, 10)
+    qos(Durability::Volatile, 10)
+}
+
+/// The graph's QoS: reliable, transient local (a late joiner is sent the newest sample).
+fn graph_qos() -> QosPolicies {
+    qos(Durability::TransientLocal, 1)
+}
+
+fn topic(
+    participant: &DomainParticipant,
+    name: &str,
+    type_name: &str,
+    qos: &QosPolicies,
+) -> Result<Topic, String> {
+    participant
+        .create_topic(name.to_owned(), type_name.to_owned(), qos, TopicKind::NoKey)
+        .map_err(|error| format!("topic {name}: {error}"))
 }
 
 fn writer(
@@ -156,11 +164,11 @@ fn writer(
     type_name: &str,
     qos: &QosPolicies,
 ) -> Result<DataWriter<Raw, RawAdapter>, String> {
-    let topic = participant
-        .create_topic(name.to_owned(), type_name.to_owned(), qos, TopicKind::NoKey)
-        .map_err(|error| format!("topic {name}: {error}"))?;
     publisher
-        .create_datawriter_no_key::<Raw, RawAdapter>(&topic, Some(qos.clone()))
+        .create_datawriter_no_key(
+            &topic(participant, name, type_name, qos)?,
+            Some(qos.clone()),
+        )
         .map_err(|error| format!("writer of {name}: {error}"))
 }
 
@@ -171,11 +179,11 @@ fn reader(
     type_name: &str,
     qos: &QosPolicies,
 ) -> Result<DataReader<Raw, RawAdapter>, String> {
-    let topic = participant
-        .create_topic(name.to_owned(), type_name.to_owned(), qos, TopicKind::NoKey)
-        .map_err(|error| format!("topic {name}: {error}"))?;
     subscriber
-        .create_datareader_no_key::<Raw, RawAdapter>(&topic, Some(qos.clone()))
+        .create_datareader_no_key(
+            &topic(participant, name, type_name, qos)?,
+            Some(qos.clone()),
+        )
         .map_err(|error| format!("reader of {name}: {error}"))
 }
 
@@ -254,7 +262,7 @@ impl Node {
             &publisher,
             graph::TOPIC,
             graph::TYPE,
-            &qos(true, true, 1),
+            &graph_qos(),
         )?;
         let gid = |guid: GUID| Gid {
             guid: guid.to_bytes(),

@@ -125,7 +125,7 @@ fn send_newer(topic: &watch::Sender<Publication>, publication: Publication) {
 }
 
 /// The live scenes each RTC interface may hold, unless told otherwise.
-pub const SCENE_QUOTA: usize = 256;
+pub use cooperation_ros::rtc::SCENE_QUOTA;
 
 impl Node {
     /// A node over a new core with `config`, and the standard RTC interfaces, each holding at

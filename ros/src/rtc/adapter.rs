@@ -62,6 +62,10 @@ impl Default for Rtc {
     }
 }
 
+/// The live scenes each RTC interface of a node may hold unless told otherwise
+/// ([`Rtc::with_scene_quota`]): the default of both nodes' `--scene-quota`.
+pub const SCENE_QUOTA: usize = 256;
+
 impl Rtc {
     /// Interfaces with these bindings.
     ///
