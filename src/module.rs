@@ -1,5 +1,6 @@
 //! Modules: the planning behaviours a scene belongs to, and their sequences.
 
+use core::cmp::Ordering;
 use core::fmt;
 use core::str::FromStr;
 
@@ -26,9 +27,11 @@ pub use name::{Extension, NameProblem};
 /// assert_eq!(Behavior::named("lane_change"), Err(NameProblem::Character { at: 4 }));
 /// ```
 ///
-/// Built-in behaviours come first in behaviour order, then extensions in the order of their
-/// names. With the `serde` feature a behaviour is written as its string.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
+/// Behaviours are ordered by their strings, byte by byte, built-in and extension names alike
+/// (`approach-assist` before `avoidance`, `lane-change` before `lane-change-assist`): the order
+/// `get_policies` lists modules in (`[COOP-POL-GET.2]`). With the `serde` feature a behaviour is
+/// written as its string.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 pub enum Behavior {
     /// `"adaptive-cruise"`.
     AdaptiveCruise,
@@ -229,8 +232,10 @@ impl fmt::Display for Behavior {
 /// A planning sequence: which part of a behaviour a module plans (AD API `PlanningSequence`),
 /// or a user extension (a valid [`Extension`] name that is not a built-in one).
 ///
-/// With the `serde` feature a sequence is written as its string (`""` for the empty one).
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
+/// Sequences are ordered by their strings, byte by byte, built-in and extension names alike:
+/// the empty sequence first, then `approach` (an extension), `change`, `return`. With the
+/// `serde` feature a sequence is written as its string (`""` for the empty one).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
 pub enum Sequence {
     /// The empty string: the behaviour is not split into sequences.
     #[default]
@@ -299,6 +304,42 @@ impl Sequence {
     }
 }
 
+/// The order of two names, each a built-in one (by its place in its `ALL`, which lists the
+/// built-in names in string order) or an extension: byte order of the strings, without
+/// comparing strings when both are built in.
+fn name_order(a: (Option<usize>, &str), b: (Option<usize>, &str)) -> Ordering {
+    match (a, b) {
+        ((Some(a), _), (Some(b), _)) => a.cmp(&b),
+        ((_, a), (_, b)) => a.as_bytes().cmp(b.as_bytes()),
+    }
+}
+
+impl Ord for Behavior {
+    /// Byte order of the behaviours' strings (`[COOP-POL-GET.2]`).
+    fn cmp(&self, other: &Self) -> Ordering {
+        name_order((self.rank(), self.as_str()), (other.rank(), other.as_str()))
+    }
+}
+
+impl PartialOrd for Behavior {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Sequence {
+    /// Byte order of the sequences' strings (`[COOP-POL-GET.2]`).
+    fn cmp(&self, other: &Self) -> Ordering {
+        name_order((self.rank(), self.as_str()), (other.rank(), other.as_str()))
+    }
+}
+
+impl PartialOrd for Sequence {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
 impl FromStr for Sequence {
     type Err = InvalidName;
 
@@ -314,7 +355,7 @@ impl FromStr for Sequence {
 /// A module, identified the AD API way: a behaviour plus a sequence.
 ///
 /// Cooperation policies are held per module (spec §3). Modules are ordered by behaviour, then
-/// sequence.
+/// sequence, each by its string (`[COOP-POL-GET.2]`).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]

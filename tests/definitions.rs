@@ -369,9 +369,9 @@ fn coop_out_order_1() {
         .all(|f| f.sequence == Sequence::Change && f.direction == Direction::Right));
 }
 
-/// `[COOP-POL-GET.1]`: every configured module's current policy, in module order.
+/// `[COOP-POL-GET.2]`: every configured module's current policy, in module order.
 #[test]
-fn coop_pol_get_1() {
+fn coop_pol_get_2() {
     let mut state = with_scenes();
     fires(
         &mut state,
@@ -392,6 +392,23 @@ fn coop_pol_get_1() {
             },
         ]
     );
+    // Extension names take their place among the built-in ones, by string, behaviour first.
+    let module = |b: &str, s: &str| Module::with_sequence(b.parse().unwrap(), s.parse().unwrap());
+    let listed = [
+        module("aaa", ""),
+        module("avoidance", "back"),
+        module("avoidance", "change"),
+        module("avoidance", "return"),
+        module("lane-change", ""),
+        module("lane-change-assist", ""),
+        module("lane-change-assist", "change"),
+        module("zz", "approach"),
+    ];
+    let mut given = listed;
+    given.reverse();
+    let state = State::new(Config::new(given.map(|m| (m, Policy::Optional)))).unwrap();
+    let modules: Vec<Module> = state.policies().map(|setting| setting.module).collect();
+    assert_eq!(modules, listed);
 }
 
 /// `State::relabel` renames identifiers without changing behaviour, and refuses collisions.

@@ -116,7 +116,7 @@ fn coop_api_status_1() {
 }
 
 /// `get_policies` on the wire: success and every configured module's policy, in module order
-/// (`[COOP-POL-GET.1]`), written as the AD API's `CooperationPolicy` messages.
+/// (`[COOP-POL-GET.2]`), written as the AD API's `CooperationPolicy` messages.
 #[test]
 fn get_policies_lists_every_module_in_order() {
     let state = with_scenes();

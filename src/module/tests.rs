@@ -20,6 +20,50 @@ fn sequences_round_trip() {
         assert_eq!(sequence.rank(), Some(rank));
     }
     assert_eq!("".parse::<Sequence>(), Ok(Sequence::Empty));
+    let names: Vec<_> = Sequence::ALL.iter().map(Sequence::as_str).collect();
+    let mut sorted = names.clone();
+    sorted.sort_unstable();
+    assert_eq!(names, sorted);
+}
+
+/// `[COOP-POL-GET.2]`: behaviours, sequences and so modules are ordered by their strings,
+/// built-in and extension names alike.
+#[test]
+fn names_are_ordered_by_their_strings_built_in_or_not() {
+    let behaviors = [
+        "adaptive-cruise",
+        "approach-assist",
+        "avoidance",
+        "lane-change",
+        "lane-change-assist",
+        "merge",
+        "zz",
+    ];
+    for a in behaviors {
+        for b in behaviors {
+            let (x, y): (Behavior, Behavior) = (a.parse().unwrap(), b.parse().unwrap());
+            assert_eq!(x.cmp(&y), a.cmp(b), "{a} against {b}");
+        }
+    }
+    let sequences = [
+        "",
+        "approach",
+        "back",
+        "change",
+        "change-again",
+        "return",
+        "zz",
+    ];
+    for a in sequences {
+        for b in sequences {
+            let (x, y): (Sequence, Sequence) = (a.parse().unwrap(), b.parse().unwrap());
+            assert_eq!(x.cmp(&y), a.cmp(b), "{a:?} against {b:?}");
+        }
+    }
+    let module = |b: &str, s: &str| Module::with_sequence(b.parse().unwrap(), s.parse().unwrap());
+    assert!(module("aaa", "") < module("lane-change", ""));
+    assert!(module("avoidance", "back") < module("avoidance", "change"));
+    assert!(module("avoidance", "return") < module("avoidance-x", ""));
 }
 
 #[test]
@@ -102,11 +146,12 @@ fn an_invalid_name_explains_itself() {
 }
 
 #[test]
-fn extensions_sort_after_built_ins_and_by_name() {
-    let [a, ab, b] = ["a", "ab", "b"].map(|name| name.parse::<Behavior>().unwrap());
-    assert!(Behavior::VirtualTrafficLight < a && a < ab && ab < b);
+fn extensions_sort_among_built_ins_by_name() {
+    let [a, ab, b, zz] = ["a", "ab", "b", "zz"].map(|name| name.parse::<Behavior>().unwrap());
+    assert!(a < ab && ab < Behavior::AdaptiveCruise && Behavior::Avoidance < b);
+    assert!(b < Behavior::Crosswalk && Behavior::VirtualTrafficLight < zz);
     let back: Sequence = "back".parse().unwrap();
-    assert!(Sequence::Return < back);
+    assert!(Sequence::Empty < back && back < Sequence::Change);
     assert_eq!(format!("{back:?}"), "Extension(Extension(\"back\"))");
 }
 

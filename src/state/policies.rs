@@ -128,8 +128,8 @@ mod tests {
         assert_eq!(
             listed,
             [
-                (return_, Policy::Optional),
                 (avoidance_back, Policy::Optional),
+                (return_, Policy::Optional),
                 (crosswalk, Policy::Required),
                 (valet, Policy::Required),
             ]

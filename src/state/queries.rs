@@ -106,7 +106,7 @@ impl State {
     }
 
     /// Every module's current policy, in module order: the AD API `get_policies` answer
-    /// (`[COOP-POL-GET.1]`).
+    /// (`[COOP-POL-GET.2]`).
     pub fn policies(&self) -> impl Iterator<Item = PolicySetting> + '_ {
         self.policies
             .iter()

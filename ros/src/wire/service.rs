@@ -79,7 +79,7 @@ pub fn set_policies(
     }
 }
 
-/// `/api/planning/cooperation/get_policies` (`[COOP-POL-GET.1]`): every configured module's
+/// `/api/planning/cooperation/get_policies` (`[COOP-POL-GET.2]`): every configured module's
 /// current policy, in module order ([`State::policies`]).
 #[must_use]
 pub fn get_policies(

@@ -46,11 +46,11 @@ fn an_extension_module_has_its_policy_set_and_read_through_the_services() {
     assert_eq!(
         listed["policies"],
         serde_json::json!([
-            {"behavior": "lane-change", "sequence": "", "policy": wire::CooperationPolicy::REQUIRED},
             {"behavior": "approach-assist", "sequence": "", "policy": wire::CooperationPolicy::OPTIONAL},
+            {"behavior": "lane-change", "sequence": "", "policy": wire::CooperationPolicy::REQUIRED},
             {"behavior": "valet-parking", "sequence": "approach", "policy": wire::CooperationPolicy::OPTIONAL},
         ]),
-        "built-in modules first, then extensions in the order of their names"
+        "[COOP-POL-GET.2]: by behaviour string, then sequence string, built-in or not"
     );
     let request = format!(
         r#"{{"policies": [{{"behavior": "valet-parking", "sequence": "approach", "policy": {}}}]}}"#,

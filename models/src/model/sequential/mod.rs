@@ -33,16 +33,15 @@ pub use ghost::{Broken, Ghost};
 pub use properties::{properties, rule_property, INVARIANTS};
 pub use step::{identity, Names, Step};
 
-/// A user-extension module: behaviour `valet-parking`, sequence `approach`. The core keeps an
+/// A user-extension module: behaviour `drop-off`, sequence `approach`. The core keeps an
 /// extension module's policy apart from the built-in ones' (a sorted list, not a slot per
-/// module), so every model from two modules on holds one of each.
+/// module), so every model from two modules on holds one of each; its name sorts between
+/// `avoidance/change` and `lane-change`, so the module order `get_policies` lists
+/// (`[COOP-POL-GET.2]`, checked in every state) interleaves the two kinds.
 // Evaluated when compiling: a name the core refuses fails the build, it cannot panic at run
 // time.
 #[allow(clippy::panic)]
-pub const EXTENSION: Module = match (
-    Behavior::named("valet-parking"),
-    Sequence::named("approach"),
-) {
+pub const EXTENSION: Module = match (Behavior::named("drop-off"), Sequence::named("approach")) {
     (Ok(behavior), Ok(sequence)) => Module::with_sequence(behavior, sequence),
     _ => panic!("not a valid extension name"),
 };

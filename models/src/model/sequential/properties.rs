@@ -5,8 +5,8 @@ use std::sync::OnceLock;
 use core::cmp::Ordering;
 
 use cooperation::{
-    CooperationStatus, Decision, FactorKind, FactorLists, Geometry, OperatorDecision, Phase,
-    Policy, Rule, SceneId, State, TableLayout,
+    CooperationStatus, Decision, FactorKind, FactorLists, Geometry, Module, OperatorDecision,
+    Phase, Policy, Rule, SceneId, State, TableLayout,
 };
 use stateright::Property;
 
@@ -136,11 +136,33 @@ fn serializes(_: &SequentialModel, step: &Step) -> bool {
         })
 }
 
+/// Whether `a` comes before `b` in the module order of `[COOP-POL-GET.2]`: behaviour string,
+/// then sequence string, byte by byte.
+fn spec_order(a: &Module, b: &Module) -> bool {
+    (
+        a.behavior.as_str().as_bytes(),
+        a.sequence.as_str().as_bytes(),
+    ) < (
+        b.behavior.as_str().as_bytes(),
+        b.sequence.as_str().as_bytes(),
+    )
+}
+
 /// Spec §3's state seen through every query: the listings agree with the lookups and the
 /// counts, scenes and retirements are listed in identifier order, the retired identifiers
-/// in order of retirement are the same set, and the scene listing's size hint is valid.
+/// in order of retirement are the same set, the scene listing's size hint is valid, and the
+/// policies are listed in the module order of `[COOP-POL-GET.2]`: by behaviour string, then
+/// sequence string, byte by byte, built-in and extension names alike.
 fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
     let core: &State = &step.core;
+    let mut previous: Option<Module> = None;
+    let policies_ordered = core.policies().all(|setting| {
+        let after = previous.map_or(true, |p| spec_order(&p, &setting.module));
+        previous = Some(setting.module);
+        after
+    }) && core
+        .policies()
+        .all(|setting| core.policy(setting.module) == Some(setting.policy));
     let ascending = |ids: &[SceneId]| ids.windows(2).all(|w| w.first() < w.last());
     let live: Vec<SceneId> = core.scenes().map(|(id, _)| id).collect();
     let by_id: Vec<SceneId> = core.retired_by_id().map(|(id, _)| id).collect();
@@ -149,7 +171,8 @@ fn queries_agree(_: &SequentialModel, step: &Step) -> bool {
     // The iterator's size hint is valid, as Rust's `Iterator` contract asks of every iterator.
     let (lower, upper) = core.scenes().size_hint();
     let hint = lower <= live.len() && upper.map_or(true, |upper| live.len() <= upper);
-    hint && ascending(&live)
+    hint && policies_ordered
+        && ascending(&live)
         && live.len() == core.scene_count()
         && core
             .scenes()
