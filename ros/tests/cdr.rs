@@ -6,6 +6,7 @@
 
 use cooperation_ros::cdr::{self, CdrError};
 use cooperation_ros::rtc::{self, CooperateStatus, CooperateStatusArray};
+use cooperation_ros::sync::{StatedSequence, SyncCooperateStatusRequest};
 use cooperation_ros::wire::*;
 use cooperation_ros::Time;
 use proptest::prelude::*;
@@ -289,6 +290,38 @@ fn each_refusal_the_docs_name_is_seen() {
         policies: vec![policy("lane\0change", "", 1)],
     };
     assert!(cdr::to_vec(&nul).unwrap_err().message.contains("NUL"));
+}
+
+/// A value its own type refuses, inside a message, is placed at the offset where the value
+/// starts, not at the start of the message.
+#[test]
+fn a_value_its_type_refuses_is_refused_at_its_own_offset() {
+    // The status's stamp: after the array's stamp (8 bytes) and the statuses' count (4).
+    let mut array = cdr::to_vec(&cooperate_status_array()).expect("writes");
+    let nanosec = 4 + 12 + 4;
+    assert_eq!(array[nanosec..nanosec + 4], 999_999_999_u32.to_le_bytes());
+    array[nanosec..nanosec + 4].copy_from_slice(&2_000_000_000_u32.to_le_bytes());
+    let error = refused::<CooperateStatusArray>(&array);
+    assert!(error.message.contains("nanosec"), "{error}");
+    assert_eq!(error.offset, 12, "{error}");
+
+    // A sync's stated sequence that is no sequence name: its string's length field, after the
+    // interface (4 + 17 bytes, padded to 24), two counts and the UUID.
+    let request = SyncCooperateStatusRequest {
+        interface: "lane_change_left".to_owned(),
+        sequences: vec![StatedSequence {
+            uuid: rtc::Uuid { uuid: [7; 16] },
+            sequence: cooperation::Sequence::Change,
+        }],
+        ..SyncCooperateStatusRequest::default()
+    };
+    let mut bytes = cdr::to_vec(&request).expect("writes");
+    let name = 4 + 24 + 4 + 4 + 16;
+    assert_eq!(bytes[name + 4..name + 4 + 7], *b"change\0");
+    bytes[name + 4] = b'C';
+    let error = refused::<SyncCooperateStatusRequest>(&bytes);
+    assert!(error.message.contains("Change"), "{error}");
+    assert_eq!(error.offset, name - 4, "{error}");
 }
 
 #[test]

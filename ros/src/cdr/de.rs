@@ -28,8 +28,12 @@ pub fn from_slice<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, CdrError> {
             offset: 0,
         });
     }
-    let mut reader = Reader { data, pos: 0 };
-    let value = T::deserialize(&mut reader)?;
+    let mut reader = Reader {
+        data,
+        pos: 0,
+        first: None,
+    };
+    let value = T::deserialize(&mut reader).map_err(|error| error.placed_at(0))?;
     // A writer may pad the message to a multiple of four bytes; padding, inside or after, is
     // not read, whatever its value.
     let rest = reader.remaining();
@@ -43,6 +47,8 @@ struct Reader<'de> {
     data: &'de [u8],
     /// The offset of the next byte from the start of the data, after the header.
     pos: usize,
+    /// Where the first byte read (padding aside) of the element being read is, once one is.
+    first: Option<usize>,
 }
 
 impl<'de> Reader<'de> {
@@ -58,6 +64,14 @@ impl<'de> Reader<'de> {
     }
 
     fn take(&mut self, len: usize) -> Result<&'de [u8], CdrError> {
+        if len > 0 {
+            self.first.get_or_insert(self.pos);
+        }
+        self.skip(len)
+    }
+
+    /// The next `len` bytes, padding or data: not where a value starts.
+    fn skip(&mut self, len: usize) -> Result<&'de [u8], CdrError> {
         let end = self.pos.checked_add(len);
         let bytes = end
             .and_then(|end| self.data.get(self.pos..end))
@@ -73,7 +87,7 @@ impl<'de> Reader<'de> {
 
     fn aligned<const N: usize>(&mut self) -> Result<[u8; N], CdrError> {
         let padding = (N - self.pos % N) % N;
-        self.take(padding)?;
+        self.skip(padding)?;
         let bytes = self.take(N)?;
         let mut out = [0; N];
         out.copy_from_slice(bytes);
@@ -279,11 +293,21 @@ impl<'de> de::SeqAccess<'de> for Elements<'_, 'de> {
         }
         let uuid = self.uuid_at == Some(self.left);
         self.left -= 1;
-        if uuid {
-            let bytes = self.reader.take(UUID_LEN)?;
-            return seed.deserialize(UuidBytes(bytes)).map(Some);
-        }
-        seed.deserialize(&mut *self.reader).map(Some)
+        // An error the element's type raises itself is placed at the element's first byte
+        // (after any padding before it); the enclosing element starts where it started, or
+        // here if this is its first.
+        let outer = self.reader.first.take();
+        let start = self.reader.pos;
+        let value = if uuid {
+            self.reader
+                .take(UUID_LEN)
+                .and_then(|bytes| seed.deserialize(UuidBytes(bytes)))
+        } else {
+            seed.deserialize(&mut *self.reader)
+        };
+        let first = self.reader.first.unwrap_or(start);
+        self.reader.first = Some(outer.unwrap_or(first));
+        value.map(Some).map_err(|error| error.placed_at(first))
     }
 
     fn size_hint(&self) -> Option<usize> {

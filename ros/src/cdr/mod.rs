@@ -14,7 +14,9 @@
 //!
 //! Reading is strict, for bytes that come from any peer: a truncated message, a boolean that is
 //! neither 0 nor 1, a string without its final NUL, with another NUL or not UTF-8, a UUID that is not sixteen bytes, an
-//! unknown encapsulation, and more than three bytes left over are each a [`CdrError`] naming where it happened;
+//! unknown encapsulation, and more than three bytes left over are each a [`CdrError`] naming where it happened,
+//! and so is a value its type refuses (a `nanosec` of 2e9, a name that is no sequence): at the
+//! offset where that value starts;
 //! a count is never trusted beyond the bytes that remain, so a short message cannot make the
 //! reader allocate much. Nothing here panics on any input.
 //!
@@ -76,10 +78,27 @@ impl serde::ser::Error for CdrError {
 }
 
 impl serde::de::Error for CdrError {
+    /// An error a message type's own deserialisation raises (a value out of its range, a name
+    /// that is no sequence), at no offset yet: the reader places it at the start of the value
+    /// that was being read.
     fn custom<T: fmt::Display>(message: T) -> Self {
         Self {
             message: message.to_string(),
-            offset: 0,
+            offset: UNPLACED,
+        }
+    }
+}
+
+/// The offset of an error the reader has not placed yet.
+const UNPLACED: usize = usize::MAX;
+
+impl CdrError {
+    /// This error, at `offset` if it was raised with none (by a type's own deserialisation).
+    fn placed_at(self, offset: usize) -> Self {
+        if self.offset == UNPLACED {
+            Self { offset, ..self }
+        } else {
+            self
         }
     }
 }
