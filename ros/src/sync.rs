@@ -6,7 +6,7 @@
 //! ([`crate::rtc::Interface`]) and answers with the interface's statuses and each live
 //! scene's merged decision. `docs/server.md` shows the shapes; [`SyncCooperateStatusRequest`] is the request's DDS form.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::rtc::{CooperateStatus, CooperateStatusArray, Lifecycle, RtcError, Uuid};
 use crate::{Host, Time};
@@ -204,24 +204,23 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
     // One sync holds the node's lock while it applies: it carries no more entries than a
     // command batch may.
     let most = host.state().limits().max_batch;
-    let entries = request.statuses.len() + request.removed.len();
+    let entries = request.statuses.len() + request.sequences.len() + request.removed.len();
     if entries > most {
         let message = format!(
-            "{entries} statuses and removals, more than the {most} a sync may carry (the \
-             settings' max_batch)"
+            "{entries} statuses, sequences and removals, more than the {most} a sync may carry \
+             (the settings' max_batch)"
         );
         tracing::warn!("a sync refused: {message}");
         return (refused(message), Effect::default());
     }
+    let sequences = match stated_sequences(request) {
+        Ok(sequences) => sequences,
+        Err(message) => return (refused(message), Effect::default()),
+    };
     let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
         Err(error) => return (refused(error.to_string()), Effect::default()),
     };
-    let sequences: BTreeMap<Uuid, Sequence> = request
-        .sequences
-        .iter()
-        .map(|stated| (stated.uuid, stated.sequence))
-        .collect();
     let mut effect = Effect::default();
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
     for status in &request.statuses {
@@ -279,6 +278,31 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         activations,
     };
     (response, effect)
+}
+
+/// Each stated sequence by its scene: each scene's at most once, and only for a scene a status
+/// of the same request reports (a sequence is read only with its status).
+fn stated_sequences(request: &SyncRequest) -> Result<BTreeMap<Uuid, Sequence>, String> {
+    let reported: BTreeSet<Uuid> = request.statuses.iter().map(|status| status.uuid).collect();
+    let mut sequences = BTreeMap::new();
+    let mut first = BTreeMap::new();
+    for (at, stated) in request.sequences.iter().enumerate() {
+        let id = SceneId::from(stated.uuid);
+        if let Some(earlier) = first.insert(stated.uuid, at) {
+            return Err(format!(
+                "sequences[{at}] states the sequence of scene {id} again (sequences[{earlier}] \
+                 did): a scene's sequence is stated once"
+            ));
+        }
+        if !reported.contains(&stated.uuid) {
+            return Err(format!(
+                "sequences[{at}] states the sequence of scene {id}, which no status of this \
+                 sync reports"
+            ));
+        }
+        sequences.insert(stated.uuid, stated.sequence);
+    }
+    Ok(sequences)
 }
 
 fn result<E: ToString>(uuid: Uuid, outcome: Result<(), E>) -> SyncResult {

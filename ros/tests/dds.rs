@@ -323,3 +323,65 @@ fn an_unknown_interface_is_refused_as_a_whole() {
     );
     assert!(!answered.changed);
 }
+
+/// A sync's stated sequences count against `max_batch` with its statuses and removals, each
+/// names a scene a status of the same sync reports, and each scene's is stated once; a sync
+/// that breaks one of these is refused as a whole and changes nothing.
+#[test]
+fn a_syncs_sequences_are_counted_matched_and_stated_once() {
+    let stated = |uuid, sequence| StatedSequence { uuid, sequence };
+    let refusals = [
+        (
+            vec![status(scene(1), true)],
+            vec![
+                stated(scene(1), cooperation::Sequence::Change),
+                stated(scene(1), cooperation::Sequence::Change),
+            ],
+            "sequences[1] states the sequence of scene",
+        ),
+        (
+            vec![status(scene(1), true)],
+            vec![
+                stated(scene(1), cooperation::Sequence::Change),
+                stated(scene(2), cooperation::Sequence::Return),
+            ],
+            "which no status of this sync reports",
+        ),
+        (
+            vec![status(scene(1), true)],
+            (0..1024)
+                .map(|_| stated(scene(1), cooperation::Sequence::Change))
+                .collect(),
+            "1025 statuses, sequences and removals, more than the 1024",
+        ),
+    ];
+    for (statuses, sequences, reason) in refusals {
+        let mut host = host();
+        let request = SyncCooperateStatusRequest {
+            interface: "static_obstacle_avoidance_left".to_owned(),
+            statuses,
+            sequences,
+            ..SyncCooperateStatusRequest::default()
+        };
+        let (synced, answered): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &request);
+        assert!(
+            !synced.success && synced.message.contains(reason),
+            "{reason}: {synced:?}"
+        );
+        assert!(synced.results.is_empty(), "{synced:?}");
+        assert!(!answered.changed);
+        assert_eq!(host.state().scenes().count(), 0, "nothing registered");
+    }
+    // The same scene with its sequence stated once registers in that sequence.
+    let mut host = host();
+    let request = SyncCooperateStatusRequest {
+        interface: "static_obstacle_avoidance_left".to_owned(),
+        statuses: vec![status(scene(1), true)],
+        sequences: vec![stated(scene(1), cooperation::Sequence::Return)],
+        ..SyncCooperateStatusRequest::default()
+    };
+    let (synced, _): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &request);
+    assert!(synced.success, "{synced:?}");
+    let (_, scene) = host.state().scenes().next().expect("registered");
+    assert_eq!(scene.module().sequence, cooperation::Sequence::Return);
+}

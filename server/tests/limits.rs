@@ -187,9 +187,9 @@ async fn a_sync_carries_at_most_max_batch_entries() {
     let values = &response["values"];
     assert_eq!(values["success"], false, "{values}");
     assert!(
-        values["message"]
-            .as_str()
-            .is_some_and(|m| m.contains("1026 statuses and removals, more than the 1024")),
+        values["message"].as_str().is_some_and(
+            |m| m.contains("1026 statuses, sequences and removals, more than the 1024")
+        ),
         "{values}"
     );
     // Nothing applied: the status in it registered nothing.
