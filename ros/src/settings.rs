@@ -4,6 +4,7 @@ mod error;
 mod reader;
 mod render;
 mod scalar;
+mod text;
 
 pub use error::{Expected, Found, SettingsError, SettingsErrorKind, Unsupported};
 
@@ -57,7 +58,31 @@ pub fn parse(text: &str) -> Result<Config, SettingsError> {
 pub fn parse_within(text: &str, max: &Limits) -> Result<Config, SettingsError> {
     // A file may start with a byte-order mark.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    reader::Reader::new(text, max).read()
+    if let Some((at, character)) = text::unprintable(text) {
+        return Err(SettingsError {
+            line: at.line,
+            column: at.column,
+            key: String::new(),
+            kind: SettingsErrorKind::Unprintable { character },
+        });
+    }
+    reader::Reader::new(text, max).read().map_err(|error| {
+        // The parser reads a key too long for one line as a value, or stops after it: the
+        // key, at or before where the error is, is the problem to name.
+        let misread = matches!(
+            error.kind,
+            SettingsErrorKind::Syntax { .. } | SettingsErrorKind::WrongType { .. }
+        );
+        match text::long_key(text) {
+            Some((at, chars)) if misread && at.line <= error.line => SettingsError {
+                line: at.line,
+                column: at.column,
+                kind: SettingsErrorKind::KeyTooLong { chars },
+                ..error
+            },
+            _ => error,
+        }
+    })
 }
 
 /// Writes `config` as a settings file that [`parse`] reads back as `config`, when `config`

@@ -73,6 +73,23 @@ pub enum SettingsErrorKind {
     },
     /// An empty key, or an empty part of a dotted key (`policies..lane-change`, `""`).
     EmptyName,
+    /// A character YAML does not allow in a text: a control character other than tab and the
+    /// line breaks (NUL among them), DEL, U+FFFE or U+FFFF.
+    Unprintable {
+        /// The character.
+        character: char,
+    },
+    /// A key on one line longer than YAML allows (1,024 characters).
+    KeyTooLong {
+        /// Its length in characters.
+        chars: usize,
+    },
+    /// A key that YAML reads as another type than a string (`true`, `null`, `1`, `2.5`): a
+    /// YAML reader other than ROS 2's would not see the name written.
+    KeyNotString {
+        /// What YAML reads it as.
+        found: Found,
+    },
     /// A key the settings do not have.
     UnknownKey {
         /// The key as given.
@@ -145,6 +162,19 @@ impl fmt::Display for SettingsErrorKind {
                 "set twice, by two spellings of the key (first on line {first_line})"
             ),
             Self::EmptyName => f.write_str("an empty key, or an empty part of a dotted key"),
+            Self::Unprintable { character } => write!(
+                f,
+                "U+{:04X} is a character YAML does not allow in a file",
+                u32::from(*character)
+            ),
+            Self::KeyTooLong { chars } => write!(
+                f,
+                "a key of {chars} characters: YAML allows a key on one line at most 1024"
+            ),
+            Self::KeyNotString { found } => write!(
+                f,
+                "the key is {found} in YAML, not a name; quote it if the name is meant"
+            ),
             Self::UnknownKey { given, expected } => {
                 write!(f, "unknown key {given:?}")?;
                 match expected {

@@ -293,7 +293,16 @@ impl<'t> Reader<'t> {
         let (event, mark) = self.node()?;
         let key = match event {
             Event::MappingEnd => return Ok(None),
-            Event::Scalar(text, ..) => text.into_owned(),
+            // A key YAML reads as another type (`true`, `null`, `1`) is not a name; an empty
+            // one is refused as empty where a name is read.
+            Event::Scalar(text, style, ..) => match kind(&text, style) {
+                Found::String => text.into_owned(),
+                _ if text.is_empty() => String::new(),
+                found => {
+                    self.path.push(text.into_owned());
+                    return Err(self.error(mark, SettingsErrorKind::KeyNotString { found }));
+                }
+            },
             _ => {
                 return Err(self.error(
                     mark,

@@ -4,6 +4,10 @@ use core::fmt::Write as _;
 use std::collections::BTreeMap;
 
 use cooperation::{Config, Policy};
+use saphyr_parser::ScalarStyle;
+
+use super::scalar::kind;
+use super::Found;
 
 /// The node key [`to_yaml`](super::to_yaml) writes: every node.
 const NODE: &str = "/**";
@@ -69,12 +73,14 @@ pub(super) fn to_yaml(config: &Config) -> String {
 }
 
 /// A key as written: plain when it is a name of ASCII letters, digits, `-`, `_` and `.`
-/// starting with a letter (as every behaviour and sequence is), else double-quoted.
+/// starting with a letter (as every behaviour and sequence is) that YAML reads as a string,
+/// else double-quoted (`"null"`, `"true"`: the reader refuses a key of another type).
 fn key(name: &str) -> String {
     let plain = name.starts_with(|c: char| c.is_ascii_alphabetic())
         && name
             .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+        && kind(name, ScalarStyle::Plain) == Found::String;
     if plain {
         return name.to_owned();
     }

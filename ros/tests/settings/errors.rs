@@ -2,7 +2,7 @@
 //! the column, the key path, the kind and the message.
 
 use super::*;
-use cooperation_ros::settings::Unsupported;
+use cooperation_ros::settings::{Found, Unsupported};
 
 #[test]
 fn text_that_is_not_yaml_is_a_syntax_error_at_its_place() {
@@ -342,4 +342,104 @@ fn a_file_without_policies_is_refused_at_its_parameters() {
             message,
         );
     }
+}
+
+/// A character YAML does not allow is refused where it is, named as itself; the parser would
+/// take a NUL for the end of the text and read nothing after it.
+#[test]
+fn a_character_yaml_does_not_allow_is_refused_where_it_is() {
+    for (line, column, character) in [
+        ("        lane\0change: optional", 13, '\0'),
+        ("        lane-change: optional\0", 30, '\0'),
+        ("        lane\u{7}change: optional", 13, '\u{7}'),
+        ("        lane-change: opt\u{7f}ional", 25, '\u{7f}'),
+        ("        lane-change: optional # \u{9b}", 33, '\u{9b}'),
+    ] {
+        let text = policies(&[line, "        merge: required"]);
+        let code = u32::from(character);
+        refused(
+            &text,
+            (5, column),
+            "",
+            &SettingsErrorKind::Unprintable { character },
+            &format!("U+{code:04X} is a character YAML does not allow in a file"),
+        );
+    }
+    // Tab, line breaks, NEL and printable characters pass this check.
+    let text = policies(&["        lane-change: optional # caf\u{e9}\u{85}"]);
+    assert!(settings::parse(&text).is_ok(), "{text}");
+}
+
+/// A key longer than YAML lets a key on one line be is named as that, first in its map or
+/// not, plain or quoted; a key of 1,024 characters is read.
+#[test]
+fn a_key_over_1024_characters_is_refused_as_too_long() {
+    let long = "a".repeat(1025);
+    for lines in [
+        vec![format!("        {long}: optional")],
+        vec![
+            "        lane-change: optional".to_owned(),
+            format!("        {long}: optional"),
+        ],
+        vec![format!("        \"{long}\": optional")],
+    ] {
+        let line = 4 + lines.len();
+        let entries: Vec<&str> = lines.iter().map(String::as_str).collect();
+        let quoted = usize::from(lines.iter().any(|l| l.contains('"')));
+        refused(
+            &policies(&entries),
+            (line, 9),
+            POLICIES,
+            &SettingsErrorKind::KeyTooLong {
+                chars: 1025 + 2 * quoted,
+            },
+            &format!(
+                "a key of {} characters: YAML allows a key on one line at most 1024",
+                1025 + 2 * quoted
+            ),
+        );
+    }
+    // At the limit the key is read, and is then no behaviour name (over 24 bytes).
+    let text = policies(&[&format!("        {}: optional", "a".repeat(1024))]);
+    let error = settings::parse(&text).expect_err("no behaviour");
+    assert!(
+        matches!(error.kind, SettingsErrorKind::InvalidBehavior(_)),
+        "{error}"
+    );
+}
+
+/// A key YAML reads as a boolean, null or a number is refused, naming what YAML reads it as;
+/// quoted, the same name is a string and names an extension behaviour.
+#[test]
+fn a_key_yaml_reads_as_another_type_is_refused() {
+    for (key, found, what) in [
+        ("true", Found::Bool, "a boolean"),
+        ("False", Found::Bool, "a boolean"),
+        ("null", Found::Null, "null"),
+        ("~", Found::Null, "null"),
+        ("1", Found::Integer, "a whole number"),
+        ("0x1f", Found::Integer, "a whole number"),
+        ("2.5", Found::Float, "a floating-point number"),
+        (".inf", Found::Float, "a floating-point number"),
+    ] {
+        let text = policies(&[&format!("        {key}: optional")]);
+        refused(
+            &text,
+            (5, 9),
+            &format!("{POLICIES}.{key}"),
+            &SettingsErrorKind::KeyNotString { found },
+            &format!("the key is {what} in YAML, not a name; quote it if the name is meant"),
+        );
+    }
+    let text = policies(&["        \"true\": optional"]);
+    let config = settings::parse(&text).expect("a quoted name is a string");
+    let module = cooperation::Module::new("true".parse().expect("an extension name"));
+    assert_eq!(config.policies.get(&module), Some(&Policy::Optional));
+    // Under a behaviour, a sequence key too.
+    let text = policies(&["        avoidance:", "          null: optional"]);
+    let error = settings::parse(&text).expect_err("refused");
+    assert_eq!(
+        error.kind,
+        SettingsErrorKind::KeyNotString { found: Found::Null }
+    );
 }

@@ -112,5 +112,5 @@ fn the_documentation_lists_every_kind_of_error() {
         })
         .collect();
     assert_eq!(table, made);
-    assert_eq!(table.len(), 20, "{table:?}");
+    assert_eq!(table.len(), 23, "{table:?}");
 }
