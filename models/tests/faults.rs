@@ -102,6 +102,23 @@ fn every_fault_is_caught_with_a_replayable_counterexample() {
     }
 }
 
+/// Breadth first over canonical states (`SequentialModel::with_canonical_states`), every fault
+/// is caught too, and its shortest counterexample, found among renamed states, is translated
+/// into inputs that replay to the violation on the model without renaming.
+#[test]
+fn every_fault_is_caught_through_canonical_states() {
+    for fault in Fault::ALL {
+        let (property, bounds) = expected(fault);
+        let model = SequentialModel::new(bounds)
+            .expect("valid")
+            .with_fault(fault)
+            .with_canonical_states(true);
+        let trace = shortest(&model, property)
+            .unwrap_or_else(|| panic!("{fault:?} went unnoticed by {property:?}"));
+        replays(fault, &trace);
+    }
+}
+
 /// The same bounds break no safety property without a fault: the faults, not the bounds, fail.
 #[test]
 #[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]

@@ -47,6 +47,27 @@ pub const SEQUENTIAL_3X3: Pin = Pin {
     generated: Some(1_206_098_397),
 };
 
+/// The CI configuration breadth first over canonical states: the depth-first symmetric
+/// search's classes, so its counts.
+pub const SEQUENTIAL_2X3_CANONICAL: Pin = Pin {
+    test: "models/tests/canonical.rs::two_modules_three_scenes_canonical",
+    model: "sequential",
+    bounds: "2 × 3",
+    search: "BFS, canonical states",
+    unique: SEQUENTIAL_2X3.unique,
+    generated: SEQUENTIAL_2X3.generated,
+};
+
+/// 3 × 3 breadth first over canonical states: the depth-first symmetric counts.
+pub const SEQUENTIAL_3X3_CANONICAL: Pin = Pin {
+    test: "models/tests/canonical.rs::three_modules_three_scenes_canonical",
+    model: "sequential",
+    bounds: "3 × 3",
+    search: "BFS, canonical states",
+    unique: SEQUENTIAL_3X3.unique,
+    generated: SEQUENTIAL_3X3.generated,
+};
+
 /// The CI configuration with the hashed table from the first scene: the same states.
 pub const SEQUENTIAL_2X3_HASHED: Pin = Pin {
     test: "models/tests/exhaustive.rs::two_modules_three_scenes_hashed_table",
@@ -189,13 +210,15 @@ pub const RTC_QUOTA: Pin = Pin {
 };
 
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 16] = [
+pub const ALL: [Pin; 18] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
     SEQUENTIAL_2X2_SYMMETRY,
     SEQUENTIAL_2X3,
+    SEQUENTIAL_2X3_CANONICAL,
     SEQUENTIAL_3X3,
+    SEQUENTIAL_3X3_CANONICAL,
     SEQUENTIAL_FORGETTING,
     SEQUENTIAL_2X3_HASHED,
     SEQUENTIAL_1X3_HASHED,

@@ -35,6 +35,13 @@ where
     /// counts every state outside its boundary.
     #[must_use]
     fn with_halt(self, halt: Halt) -> Self;
+
+    /// The same model returning every successor in canonical form, so that breadth-first
+    /// search reduces by symmetry (`model::sequential`'s `canonical`); `None` if the model has
+    /// no canonical form.
+    fn canonical(self) -> Option<Self> {
+        None
+    }
 }
 
 impl Checkable for crate::NetworkModel {
@@ -67,15 +74,16 @@ impl Checkable for SequentialModel {
         Self::focus(self, property)
     }
 
+    fn canonical(self) -> Option<Self> {
+        Some(self.with_canonical_states(true))
+    }
+
     fn with_halt(self, halt: Halt) -> Self {
         Self::with_halt(self, halt)
     }
 
     fn trace(&self, property: &'static str, actions: Vec<usize>) -> Trace {
-        let inputs = actions
-            .iter()
-            .filter_map(|a| self.alphabet().get(*a).cloned())
-            .collect();
+        let inputs = self.raw_inputs(&actions);
         Trace::Sequential {
             bounds: self.bounds(),
             table: self.table(),
@@ -113,7 +121,8 @@ impl Checkable for crate::RtcModel {
 pub enum Strategy {
     /// Depth first; applies symmetry reduction when asked.
     Dfs,
-    /// Breadth first; ignores symmetry (stateright's BFS does).
+    /// Breadth first; reduces by symmetry through canonical states (stateright's BFS ignores
+    /// its own symmetry reduction), where the model has them.
     Bfs,
 }
 
@@ -124,7 +133,9 @@ pub struct Settings {
     pub threads: usize,
     /// Search order.
     pub strategy: Strategy,
-    /// Whether to reduce by renaming identifiers (DFS only).
+    /// Whether to reduce by renaming identifiers: depth first through the checker's symmetry
+    /// reduction, breadth first by canonical states ([`Checkable::canonical`]; a model without
+    /// them is searched unreduced, and the command line turns symmetry off for it).
     pub symmetry: bool,
 }
 
@@ -334,6 +345,12 @@ where
 {
     let start = Instant::now();
     let halt = Halt::new();
+    // Breadth first with symmetry: the model returns canonical states, for the search and the
+    // shortest counterexamples alike.
+    let canonical = (settings.symmetry && settings.strategy == Strategy::Bfs)
+        .then(|| model.clone().canonical())
+        .flatten();
+    let model = canonical.as_ref().unwrap_or(model);
     let builder = model
         .clone()
         .with_halt(halt.clone())
@@ -344,7 +361,7 @@ where
     } else {
         builder.finish_when(HasDiscoveries::AnyFailures)
     };
-    let builder = if settings.symmetry {
+    let builder = if settings.symmetry && settings.strategy == Strategy::Dfs {
         builder.symmetry()
     } else {
         builder

@@ -214,7 +214,11 @@ where
     } = settings;
     println!(
         "checking to completion: {strategy:?}, {threads} thread(s), symmetry {}{}",
-        if symmetry { "on" } else { "off" },
+        match (symmetry, strategy) {
+            (false, _) => "off",
+            (true, Strategy::Dfs) => "on",
+            (true, Strategy::Bfs) => "on (canonical states)",
+        },
         injected(options)
     );
     let report = check_for(model, settings, options.stop, &mut std::io::stderr());

@@ -160,14 +160,17 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
         // Forgetting identifiers makes the retirement order matter, and it is not symmetric.
         settings.symmetry = false;
     }
-    // Symmetry needs depth first (breadth first ignores it); without symmetry, breadth first
-    // keeps memory flat where depth-first paths grow long.
+    // Symmetry defaults to depth first; without symmetry, breadth first keeps memory flat where
+    // depth-first paths grow long. Breadth first reduces by symmetry through canonical states,
+    // which the sequential model has on the default table only (a renamed state's table is
+    // built anew, without the hashed table's history).
     settings.strategy = strategy.unwrap_or(if settings.symmetry {
         Strategy::Dfs
     } else {
         Strategy::Bfs
     });
-    if settings.strategy == Strategy::Bfs {
+    let canonical = which == Which::Sequential && table == TableLayout::Adaptive;
+    if settings.strategy == Strategy::Bfs && !canonical {
         settings.symmetry = false;
     }
     if which == Which::Network && !args.iter().any(|a| a == "--scenes") {

@@ -36,7 +36,7 @@ use stateright::{Model, Representative};
 use super::progress::{CoverageError, Found, Progress, MAX_COVERED_SCENES};
 use super::{named, renamed_input, Pairs, Scope, RULES};
 use crate::check::budget::Halt;
-use crate::model::sequential::{identity, Names, SequentialModel, Step};
+use crate::model::sequential::{identity, inverse, Names, SequentialModel, Step};
 
 /// States a worker takes from the level at a time.
 const CHUNK: usize = 256;
@@ -115,17 +115,6 @@ fn permutations(n: usize) -> Vec<Names> {
         all.extend(more);
     }
     all
-}
-
-/// The inverse of a permutation.
-fn inverse(names: &Names) -> Names {
-    let mut inverse = identity();
-    for (old, new) in names.iter().enumerate() {
-        if let Some(slot) = inverse.get_mut(*new) {
-            *slot = old;
-        }
-    }
-    inverse
 }
 
 /// A worker's tallies, added to the [`Progress`] after every chunk.

@@ -11,11 +11,12 @@
 //!
 //! [`Step::last`]: crate::Step::last
 
-use cooperation::{Input, Rule, SceneId};
+use cooperation::{Input, Rule};
 
 use crate::model::fault::Fault;
 use crate::model::ids::index;
-use crate::model::sequential::{Bounds, Names};
+pub use crate::model::sequential::renamed_input;
+use crate::model::sequential::Bounds;
 
 mod explore;
 mod progress;
@@ -74,31 +75,6 @@ pub fn named(input: &Input) -> u64 {
         Input::SetCommands { commands } => commands.iter().fold(0, |set, c| set | bit(c.id)),
         Input::SetPolicies { .. } | Input::Tick { .. } => 0,
     }
-}
-
-/// `input` with its scene identifiers renamed by `names` (identifier `i + 1` becomes
-/// `names[i] + 1`), everything else as it is: to find the inputs of the alphabet whose renamed
-/// copies it also holds.
-#[must_use]
-pub fn renamed_input(input: &Input, names: &Names) -> Input {
-    let rename = |id: &mut SceneId| {
-        if let Some(new) = index(*id).and_then(|i| names.get(i)) {
-            *id = SceneId::from_u128(*new as u128 + 1);
-        }
-    };
-    let mut renamed = input.clone();
-    match &mut renamed {
-        Input::Register { id, .. } | Input::Update { id, .. } | Input::Remove { id, .. } => {
-            rename(id);
-        }
-        Input::SetCommands { commands } => {
-            for command in commands {
-                rename(&mut command.id);
-            }
-        }
-        Input::SetPolicies { .. } | Input::Tick { .. } => {}
-    }
-    renamed
 }
 
 const RULES: usize = Rule::ALL.len();

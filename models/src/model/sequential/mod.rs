@@ -23,11 +23,13 @@ use crate::model::ids::{ModelError, MAX_SCENES};
 use crate::model::spec::{Tables, SPEC};
 
 mod alphabet;
+mod canonical;
 mod ghost;
 mod properties;
 mod step;
 
 use alphabet::alphabet;
+pub use canonical::{inverse, renamed_input};
 use ghost::{against_spec, observe};
 pub use ghost::{Broken, Ghost};
 pub use properties::{properties, rule_property, INVARIANTS};
@@ -103,6 +105,7 @@ pub struct SequentialModel {
     halt: Halt,
     table: TableLayout,
     merge_stalled: bool,
+    canonical: bool,
     config: Config,
     alphabet: Vec<Input>,
     tables: Tables,
@@ -155,6 +158,7 @@ impl SequentialModel {
             halt: Halt::new(),
             table: TableLayout::Adaptive,
             merge_stalled: true,
+            canonical: false,
             config,
             alphabet,
             tables,
@@ -337,7 +341,7 @@ impl Model for SequentialModel {
     fn next_state(&self, from: &Step, action: Action) -> Option<Step> {
         self.alphabet
             .get(action)
-            .map(|input| self.step(from, input))
+            .map(|input| self.successor(from, input))
     }
 
     fn format_action(&self, action: &Action) -> String {

@@ -1,0 +1,132 @@
+//! Canonical states (`model::sequential`'s `canonical`): breadth-first search over successors
+//! renamed to their representatives meets the classes that depth-first search with symmetry
+//! meets, so it reaches the same counts; and a path found among canonical states turns into
+//! inputs that replay on the model without renaming (every planted fault's, too:
+//! `models/tests/faults.rs`).
+
+use cooperation_models::check::pins::{self, Pin};
+use cooperation_models::check::run::{check, Report, Settings, Strategy};
+use cooperation_models::{Bounds, SequentialModel};
+use stateright::{Model, Representative};
+
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+/// Breadth first with symmetry on: canonical states.
+const CANONICAL: Settings = Settings {
+    threads: 2,
+    strategy: Strategy::Bfs,
+    symmetry: true,
+};
+
+fn canonical_check(bounds: Bounds) -> Report {
+    let model = SequentialModel::new(bounds).expect("valid bounds");
+    let report = check(&model, CANONICAL, &mut std::io::sink());
+    assert!(report.complete, "{bounds:?}: the search did not complete");
+    let broken: Vec<&str> = report
+        .outcomes
+        .iter()
+        .filter(|o| !o.holds)
+        .map(|o| o.name)
+        .collect();
+    assert_eq!(broken, Vec::<&str>::new(), "{bounds:?}");
+    report
+}
+
+/// The depth-first symmetric pin's counts, unique and generated, reached breadth first.
+fn same_counts(report: &Report, pin: Pin) {
+    assert_eq!(report.unique, pin.unique, "unique states, as {}", pin.test);
+    if let Some(generated) = pin.generated {
+        assert_eq!(report.generated, generated, "generated, as {}", pin.test);
+    }
+}
+
+#[test]
+fn canonical_breadth_first_reaches_the_symmetric_depth_first_counts() {
+    same_counts(
+        &canonical_check(Bounds::new(1, 2)),
+        pins::SEQUENTIAL_1X2_SYMMETRY,
+    );
+    same_counts(
+        &canonical_check(Bounds::new(2, 2)),
+        pins::SEQUENTIAL_2X2_SYMMETRY,
+    );
+}
+
+/// The CI configuration, 2 × 3, breadth first over canonical states: the depth-first
+/// symmetric counts (`pins::SEQUENTIAL_2X3_CANONICAL`).
+#[test]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
+fn two_modules_three_scenes_canonical() {
+    let report = canonical_check(Bounds::new(2, 3));
+    same_counts(&report, pins::SEQUENTIAL_2X3_CANONICAL);
+    same_counts(&report, pins::SEQUENTIAL_2X3);
+}
+
+/// 3 × 3 breadth first over canonical states: the depth-first symmetric counts
+/// (`pins::SEQUENTIAL_3X3_CANONICAL`), in a few GiB where depth-first search keeps its paths.
+#[test]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
+fn three_modules_three_scenes_canonical() {
+    let report = canonical_check(Bounds::new(3, 3));
+    same_counts(&report, pins::SEQUENTIAL_3X3_CANONICAL);
+    same_counts(&report, pins::SEQUENTIAL_3X3);
+    eprintln!(
+        "3x3 canonical: {} unique, {} generated, depth {}, {:.1} s",
+        report.unique,
+        report.generated,
+        report.depth,
+        report.elapsed.as_secs_f64()
+    );
+}
+
+/// A path among canonical states, turned into unrenamed inputs, replays through states that
+/// are the canonical ones up to renaming; on the way, some renaming is not the identity (so
+/// the translation is exercised, not skipped).
+#[test]
+fn a_canonical_path_replays_unrenamed() {
+    let model = SequentialModel::new(Bounds::new(2, 3))
+        .expect("valid")
+        .with_canonical_states(true);
+    let raw_model = SequentialModel::new(Bounds::new(2, 3)).expect("valid");
+    let alphabet = model.alphabet().len();
+    let mut renamed_somewhere = false;
+    // A fixed pseudo-random sequence of walks (xorshift), each to a stalled step or 40 steps.
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+    for _ in 0..200 {
+        let mut state = model.init_states().remove(0);
+        let mut actions = Vec::new();
+        let mut path = vec![state.clone()];
+        for _ in 0..40 {
+            let mut enabled = Vec::new();
+            model.actions(&state, &mut enabled);
+            if enabled.is_empty() {
+                break;
+            }
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let action = (seed % alphabet as u64) as usize;
+            state = model.next_state(&state, action).expect("in the alphabet");
+            actions.push(action);
+            path.push(state.clone());
+        }
+        let raw = model.raw_inputs(&actions);
+        assert_eq!(raw.len(), actions.len());
+        renamed_somewhere |= actions
+            .iter()
+            .zip(&raw)
+            .any(|(action, input)| model.alphabet().get(*action) != Some(input));
+        let replayed = raw_model.replay(&raw).expect("replays");
+        assert_eq!(replayed.len(), path.len());
+        for (raw_step, canonical) in replayed.iter().zip(&path) {
+            if canonical.stalled {
+                // A stalled step is its own representative, fingerprinted by its rule alone.
+                assert!(raw_step.stalled && raw_step.last == canonical.last);
+            } else {
+                assert_eq!(&raw_step.representative(), canonical);
+            }
+        }
+    }
+    assert!(renamed_somewhere, "no walk renamed an identifier");
+}
