@@ -39,6 +39,45 @@ fn a_correct_model_passes_with_status_zero() {
     assert!(!stdout.contains("incomplete"), "{stdout}");
 }
 
+/// `--strategy bfs` keeps symmetry through canonical states, with the depth-first counts, on
+/// the default table; on the hashed table (whose history a renaming would lose) it turns
+/// symmetry off and says so.
+#[test]
+fn breadth_first_keeps_symmetry_through_canonical_states() {
+    let pin = cooperation_models::check::pins::SEQUENTIAL_2X2_SYMMETRY;
+    let (code, stdout, _) = check(
+        "canonical",
+        &["--modules", "2", "--scenes", "2", "--strategy", "bfs"],
+    );
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(
+        stdout.contains("Bfs, 2 thread(s), symmetry on (canonical states)"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(&format!("{} unique states", pin.unique)),
+        "{stdout}"
+    );
+    let (code, stdout, _) = check(
+        "canonical-hashed",
+        &[
+            "--modules",
+            "1",
+            "--scenes",
+            "2",
+            "--strategy",
+            "bfs",
+            "--table",
+            "hashed",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(
+        stdout.contains("Bfs, 2 thread(s), symmetry off"),
+        "{stdout}"
+    );
+}
+
 #[test]
 fn the_first_violation_stops_the_check_with_a_saved_counterexample() {
     let (code, stdout, out) = check("first", &["--fault", "RetiredIdReused"]);
