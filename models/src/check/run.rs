@@ -74,8 +74,11 @@ impl Checkable for SequentialModel {
         Self::focus(self, property)
     }
 
+    /// On the default table only: a renamed state's table is built anew, without the history
+    /// the hashed table's checks explore.
     fn canonical(self) -> Option<Self> {
-        Some(self.with_canonical_states(true))
+        (self.table() == cooperation::TableLayout::Adaptive)
+            .then(|| self.with_canonical_states(true))
     }
 
     fn with_halt(self, halt: Halt) -> Self {
