@@ -306,11 +306,17 @@ impl Sequence {
 
 /// The order of two names, each a built-in one (by its place in its `ALL`, which lists the
 /// built-in names in string order) or an extension: byte order of the strings, without
-/// comparing strings when both are built in.
+/// comparing strings when both are built in. An extension value can hold a built-in name of
+/// the other kind (a sequence named `avoidance` made a behaviour extension); of two such
+/// unequal values with one string, the built-in one comes first, so the order agrees with
+/// `Eq`.
 fn name_order(a: (Option<usize>, &str), b: (Option<usize>, &str)) -> Ordering {
     match (a, b) {
         ((Some(a), _), (Some(b), _)) => a.cmp(&b),
-        ((_, a), (_, b)) => a.as_bytes().cmp(b.as_bytes()),
+        ((a_rank, a), (b_rank, b)) => a
+            .as_bytes()
+            .cmp(b.as_bytes())
+            .then_with(|| a_rank.is_none().cmp(&b_rank.is_none())),
     }
 }
 

@@ -64,7 +64,8 @@ fn two_modules_three_scenes_canonical() {
 }
 
 /// 3 × 3 breadth first over canonical states: the depth-first symmetric counts
-/// (`pins::SEQUENTIAL_3X3_CANONICAL`), in a few GiB where depth-first search keeps its paths.
+/// (`pins::SEQUENTIAL_3X3_CANONICAL`); breadth first keeps its frontier whole, a few GB here
+/// against the depth-first search's few hundred MB.
 #[test]
 #[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn three_modules_three_scenes_canonical() {
@@ -88,6 +89,14 @@ fn a_canonical_path_replays_unrenamed() {
     let model = SequentialModel::new(Bounds::new(2, 3))
         .expect("valid")
         .with_canonical_states(true);
+    assert!(model.canonical_states());
+    let hashed = model
+        .clone()
+        .with_table(cooperation::TableLayout::Colliding);
+    assert!(
+        !hashed.canonical_states(),
+        "no canonical states on the hashed table"
+    );
     let raw_model = SequentialModel::new(Bounds::new(2, 3)).expect("valid");
     let alphabet = model.alphabet().len();
     let mut renamed_somewhere = false;

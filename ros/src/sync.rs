@@ -28,7 +28,9 @@ pub struct SyncRequest {
     /// This cycle's statuses, applied in order, each as `updateCooperateStatus`.
     #[serde(default)]
     pub statuses: Vec<SyncStatus>,
-    /// The sequence of each new scene of an interface that binds several (the avoidances).
+    /// The sequence of each new scene of an interface that binds several (the avoidances):
+    /// each for a scene a status of this request reports, each scene's at most once, and
+    /// counted with the statuses and removals against `max_batch`.
     #[serde(default)]
     pub sequences: Vec<StatedSequence>,
     /// Scenes the module removes, after the statuses, each as `removeCooperateStatus`.
@@ -213,13 +215,13 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         tracing::warn!("a sync refused: {message}");
         return (refused(message), Effect::default());
     }
-    let sequences = match stated_sequences(request) {
-        Ok(sequences) => sequences,
-        Err(message) => return (refused(message), Effect::default()),
-    };
     let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
         Err(error) => return (refused(error.to_string()), Effect::default()),
+    };
+    let sequences = match stated_sequences(request) {
+        Ok(sequences) => sequences,
+        Err(message) => return (refused(message), Effect::default()),
     };
     let mut effect = Effect::default();
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());

@@ -337,7 +337,7 @@ fn a_syncs_sequences_are_counted_matched_and_stated_once() {
                 stated(scene(1), cooperation::Sequence::Change),
                 stated(scene(1), cooperation::Sequence::Change),
             ],
-            "sequences[1] states the sequence of scene",
+            "(sequences[0] did): a scene's sequence is stated once",
         ),
         (
             vec![status(scene(1), true)],

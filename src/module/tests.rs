@@ -60,6 +60,18 @@ fn names_are_ordered_by_their_strings_built_in_or_not() {
             assert_eq!(x.cmp(&y), a.cmp(b), "{a:?} against {b:?}");
         }
     }
+    // An extension value holding a built-in name of the other kind is another value: it
+    // sorts after the built-in one, never equal to it.
+    let Sequence::Extension(avoidance) = Sequence::named("avoidance").unwrap() else {
+        panic!("a behaviour's name is a sequence extension");
+    };
+    assert!(Behavior::Avoidance < Behavior::Extension(avoidance));
+    assert!(Behavior::Extension(avoidance) < Behavior::Crosswalk);
+    let Behavior::Extension(change) = Behavior::named("change").unwrap() else {
+        panic!("a sequence's name is a behaviour extension");
+    };
+    assert!(Sequence::Change < Sequence::Extension(change));
+    assert!(Sequence::Extension(change) < Sequence::Return);
     let module = |b: &str, s: &str| Module::with_sequence(b.parse().unwrap(), s.parse().unwrap());
     assert!(module("aaa", "") < module("lane-change", ""));
     assert!(module("avoidance", "back") < module("avoidance", "change"));

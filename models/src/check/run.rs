@@ -74,11 +74,10 @@ impl Checkable for SequentialModel {
         Self::focus(self, property)
     }
 
-    /// On the default table only: a renamed state's table is built anew, without the history
-    /// the hashed table's checks explore.
+    /// On the default table only (`SequentialModel::with_canonical_states`).
     fn canonical(self) -> Option<Self> {
-        (self.table() == cooperation::TableLayout::Adaptive)
-            .then(|| self.with_canonical_states(true))
+        let model = self.with_canonical_states(true);
+        model.canonical_states().then_some(model)
     }
 
     fn with_halt(self, halt: Halt) -> Self {

@@ -34,9 +34,9 @@ pub(super) fn to_yaml(config: &Config) -> String {
     }
     out.push('\n');
     let indent = "        ";
-    for (behavior, mut sequences) in behaviors {
+    for (name, mut sequences) in behaviors {
         sequences.sort();
-        let behavior = key(&behavior);
+        let behavior = key(&name);
         match sequences.as_slice() {
             [(alone, policy)] if alone.is_empty() => {
                 let _ = writeln!(out, "{indent}{behavior}: {policy}");
@@ -55,7 +55,7 @@ pub(super) fn to_yaml(config: &Config) -> String {
                         let _ = writeln!(
                             out,
                             "{indent}{}: {policy}",
-                            key(&format!("{behavior}.{sequence}"))
+                            key(&format!("{name}.{sequence}"))
                         );
                     }
                 }
@@ -72,15 +72,21 @@ pub(super) fn to_yaml(config: &Config) -> String {
     out
 }
 
+/// Words that YAML 1.1 readers (PyYAML, and so launch files) take for booleans, though YAML
+/// 1.2 and this reader take them for strings: written quoted, every reader sees the name.
+const YAML_1_1_BOOLEANS: [&str; 8] = ["y", "n", "yes", "no", "on", "off", "Y", "N"];
+
 /// A key as written: plain when it is a name of ASCII letters, digits, `-`, `_` and `.`
 /// starting with a letter (as every behaviour and sequence is) that YAML reads as a string,
-/// else double-quoted (`"null"`, `"true"`: the reader refuses a key of another type).
+/// else double-quoted (`"null"`, `"true"`: the reader refuses a key of another type; `"yes"`,
+/// `"off"`: YAML 1.1's booleans).
 fn key(name: &str) -> String {
     let plain = name.starts_with(|c: char| c.is_ascii_alphabetic())
         && name
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
-        && kind(name, ScalarStyle::Plain) == Found::String;
+        && kind(name, ScalarStyle::Plain) == Found::String
+        && !YAML_1_1_BOOLEANS.contains(&name);
     if plain {
         return name.to_owned();
     }

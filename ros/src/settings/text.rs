@@ -48,12 +48,14 @@ pub(super) fn unprintable(text: &str) -> Option<(At, char)> {
 
 /// The first key on a line of its own longer than [`MAX_KEY_CHARS`], where it starts, and its
 /// length in characters. A key is what stands before the line's first `: ` (or its final
-/// `:`), after the indentation; a quoted key ends at its closing quote.
+/// `:`), after the indentation; a quoted key ends at its closing quote. Comment lines and list
+/// items hold no key.
 pub(super) fn long_key(text: &str) -> Option<(At, usize)> {
     lines(text).find_map(|(line, content)| {
-        let indent = content.len() - content.trim_start_matches(' ').len();
+        let indent = content.len() - content.trim_start_matches([' ', '\t']).len();
         let rest = content.get(indent..)?;
-        if rest.starts_with('#') {
+        // A comment, or a list item (no settings key is in a list).
+        if rest.starts_with('#') || rest.starts_with("- ") {
             return None;
         }
         let len = key_chars(rest)?;

@@ -366,7 +366,7 @@ fn a_character_yaml_does_not_allow_is_refused_where_it_is() {
         );
     }
     // Tab, line breaks, NEL and printable characters pass this check.
-    let text = policies(&["        lane-change: optional # caf\u{e9}\u{85}"]);
+    let text = policies(&["        lane-change: optional #\tcaf\u{e9}\u{85}"]);
     assert!(settings::parse(&text).is_ok(), "{text}");
 }
 

@@ -318,14 +318,30 @@ fn the_examples_settings_configure_a_user_extension() {
 
 #[test]
 fn extension_names_that_yaml_would_type_round_trip() {
-    for name in ["null", "true", "false", "nan", "inf", "e1", "x-1"] {
+    for name in [
+        "null", "true", "false", "nan", "inf", "e1", "x-1", "yes", "off", "y",
+    ] {
         let module = Module::new(name.parse().unwrap());
         let expected = config(&[(module, Policy::Required)]);
+        let yaml = settings::to_yaml(&expected);
+        // Quoted where a YAML reader would type it (1.2's core schema, or 1.1's booleans).
+        let typed = ["null", "true", "false", "yes", "off", "y"].contains(&name);
         assert_eq!(
-            settings::parse(&settings::to_yaml(&expected)),
-            Ok(expected),
-            "{name}"
+            yaml.contains(&format!("\"{name}\":")),
+            typed,
+            "{name}:\n{yaml}"
         );
+        assert_eq!(settings::parse(&yaml), Ok(expected), "{name}");
+        // A policy of its own beside a sequence's: written as flat keys, `null.change`.
+        let expected = config(&[
+            (module, Policy::Required),
+            (
+                Module::with_sequence(module.behavior, Sequence::Change),
+                Policy::Optional,
+            ),
+        ]);
+        let yaml = settings::to_yaml(&expected);
+        assert_eq!(settings::parse(&yaml), Ok(expected), "{name}:\n{yaml}");
     }
 }
 

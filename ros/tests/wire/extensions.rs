@@ -14,7 +14,8 @@ fn valet() -> Module {
     )
 }
 
-/// `approach-assist`: an extension behaviour whose name sorts before every built-in one.
+/// `approach-assist`: an extension behaviour whose name sorts before `lane-change` (and every
+/// built-in name but `adaptive-cruise`).
 fn assist() -> Module {
     Module::new("approach-assist".parse().expect("a valid name"))
 }

@@ -14,7 +14,7 @@
 //! does; [`SequentialModel::raw_inputs`] turns it into the inputs that take the model without
 //! renaming through the same states up to renaming, which is what a trace records and replays.
 
-use cooperation::{Input, SceneId};
+use cooperation::{Input, SceneId, TableLayout};
 use stateright::Representative;
 
 use super::step::{identity, Names};
@@ -22,25 +22,27 @@ use super::{Action, SequentialModel, Step};
 use crate::model::ids::index;
 
 impl SequentialModel {
-    /// The same model returning every successor in its canonical form (the module's doc).
-    /// Off by default; the coverage search and the hashed-table checks keep it off: a
-    /// renamed state's scene table is built anew, without the history of the one it renames.
+    /// The same model returning every successor in its canonical form (the module's doc),
+    /// on the default table only: a renamed state's scene table is built anew, without the
+    /// history (tombstones, wrap-around) the hashed table's checks explore, so with
+    /// [`TableLayout::Colliding`] this has no effect ([`canonical_states`](Self::canonical_states)
+    /// says whether it has). Off by default; the coverage search keeps it off.
     #[must_use]
     pub fn with_canonical_states(mut self, on: bool) -> Self {
         self.canonical = on;
         self
     }
 
-    /// Whether successors are returned in canonical form.
+    /// Whether successors are returned in canonical form: asked for, on the default table.
     #[must_use]
-    pub const fn canonical_states(&self) -> bool {
-        self.canonical
+    pub fn canonical_states(&self) -> bool {
+        self.canonical && self.table == TableLayout::Adaptive
     }
 
     /// The successor of `from` by `input`, in canonical form when the model says so.
     pub(super) fn successor(&self, from: &Step, input: &Input) -> Step {
         let next = self.step(from, input);
-        if self.canonical {
+        if self.canonical_states() {
             next.representative()
         } else {
             next
@@ -53,7 +55,7 @@ impl SequentialModel {
     #[must_use]
     pub fn raw_inputs(&self, actions: &[Action]) -> Vec<Input> {
         let inputs = actions.iter().filter_map(|a| self.alphabet.get(*a));
-        if !self.canonical {
+        if !self.canonical_states() {
             return inputs.cloned().collect();
         }
         let Ok(mut state) = self.initial() else {

@@ -431,7 +431,7 @@ fn always() -> Vec<(&'static str, Condition)> {
             layout_is_invisible,
         ),
         (
-            "spec §3: the state's queries agree with one another",
+            "spec §3, COOP-POL-GET.2: the state's queries agree with one another, policies in module order",
             queries_agree,
         ),
         (
