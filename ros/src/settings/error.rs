@@ -169,7 +169,8 @@ impl fmt::Display for SettingsErrorKind {
             ),
             Self::KeyTooLong { chars } => write!(
                 f,
-                "a key of {chars} characters: YAML allows a key on one line at most 1024"
+                "a key of {chars} characters: YAML allows a key on one line at most {}",
+                super::text::MAX_KEY_CHARS
             ),
             Self::KeyNotString { found } => write!(
                 f,

@@ -13,7 +13,7 @@ const fn printable(c: char) -> bool {
         | '\u{10000}'..='\u{10ffff}')
 }
 
-/// A place in the text: line and column (in characters), both from 1, and the character there.
+/// A place in the text: line and column (in characters), both from 1.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub(super) struct At {
     pub(super) line: usize,
