@@ -1,9 +1,8 @@
 //! The bridge's functions: each is one call of `cooperation_ros` on a node's [`Core`], its
 //! arguments converted in and its answer converted out.
 
-use std::sync::OnceLock;
-
-use cooperation::{Config, SceneId, Sequence, State};
+use cooperation::{Config, SceneId, Sequence};
+use cooperation_ros::engine::{self, Engine, Now};
 use cooperation_ros::rtc::{
     self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, Rtc, RtcError, StatusReport,
 };
@@ -11,14 +10,12 @@ use cooperation_ros::{Host, Shared, Time};
 
 use crate::bridge::ffi::{self, CommandIn, Flag, Outcome, Stamp, Status, Uuid};
 
-/// One node's core: the state, the RTC interfaces' routing and the clock the core was last told
-/// of, behind one lock ([`Shared`]), shared by every interface of the node (in C++, by every
-/// `RTCInterface` built on the same node) and by its service callbacks.
+/// One node's core: the service engine (the state, the RTC interfaces' routing and the clock
+/// the core was last told of) behind one lock ([`Shared`]), shared by every interface of the
+/// node (in C++, by every `RTCInterface` built on the same node) and by its service callbacks.
 #[derive(Debug)]
 pub struct Core {
     shared: Shared,
-    /// The node's first clock reading, in nanoseconds: the core's time 0.
-    origin_ns: OnceLock<i64>,
 }
 
 impl Core {
@@ -28,14 +25,13 @@ impl Core {
     /// # Errors
     /// The core's refusal of the configuration.
     pub fn new(quota: usize) -> Result<Self, cooperation::ConfigError> {
-        let mut rtc = Rtc::standard();
-        if quota > 0 {
-            rtc = rtc.with_scene_quota(quota);
-        }
-        let state = State::new(Config::new(rtc.policies(true)))?;
+        let config = Config::new(Rtc::standard().policies(true));
+        let options = engine::Options {
+            scene_quota: quota,
+            ..engine::Options::default()
+        };
         Ok(Self {
-            shared: Shared::new(Host::new(state, rtc)),
-            origin_ns: OnceLock::new(),
+            shared: Shared::new(Engine::new(config, options)?),
         })
     }
 
@@ -46,11 +42,11 @@ impl Core {
     }
 
     /// Runs `change` under the core's lock, telling ThreadSanitizer of the lock.
-    fn change<R>(&self, change: impl FnOnce(&mut Host) -> R) -> R {
+    fn change<R>(&self, change: impl FnOnce(&mut Engine) -> R) -> R {
         let address = std::ptr::from_ref(self) as usize;
-        self.shared.update(|host| {
+        self.shared.update(|engine| {
             ffi::lock_acquired(address);
-            let answer = change(host);
+            let answer = change(engine);
             ffi::lock_releasing(address);
             answer
         })
@@ -59,9 +55,9 @@ impl Core {
     /// Runs `query` under the core's lock, telling ThreadSanitizer of the lock.
     fn query<R>(&self, query: impl FnOnce(&Host) -> R) -> R {
         let address = std::ptr::from_ref(self) as usize;
-        self.shared.read(|host| {
+        self.shared.read(|engine| {
             ffi::lock_acquired(address);
-            let answer = query(host);
+            let answer = query(engine.host());
             ffi::lock_releasing(address);
             answer
         })
@@ -100,14 +96,20 @@ const fn time(stamp: Stamp) -> Time {
 }
 
 pub(crate) fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome {
-    core.change(|host| {
-        outcome(host.interface(name).and_then(|mut interface| {
-            interface
-                .auto_mode(&AutoModeRequest {
-                    enable: !enable_rtc,
+    core.change(|engine| {
+        outcome(
+            engine
+                .call(|host| {
+                    host.interface(name).and_then(|mut interface| {
+                        interface
+                            .auto_mode(&AutoModeRequest {
+                                enable: !enable_rtc,
+                            })
+                            .result
+                    })
                 })
-                .result
-        }))
+                .0,
+        )
     })
 }
 
@@ -169,49 +171,53 @@ pub(crate) fn update(
         },
         (report, _) => report,
     };
-    core.change(|host| {
-        outcome(report.and_then(|report| {
-            host.interface(name)?
-                .update_cooperate_status(&report)
-                .map(drop)
-        }))
+    core.change(|engine| {
+        outcome(
+            engine
+                .call(|host| {
+                    report.and_then(|report| {
+                        host.interface(name)?
+                            .update_cooperate_status(&report)
+                            .map(drop)
+                    })
+                })
+                .0,
+        )
     })
 }
 
 pub(crate) fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome {
-    core.change(|host| {
+    core.change(|engine| {
         outcome(
-            host.interface(name)
-                .and_then(|mut interface| interface.remove_cooperate_status(id(uuid))),
+            engine
+                .call(|host| {
+                    host.interface(name)
+                        .and_then(|mut interface| interface.remove_cooperate_status(id(uuid)))
+                })
+                .0,
         )
     })
 }
 
 pub(crate) fn clear(core: &Core, name: &str) -> Outcome {
-    core.change(|host| {
+    core.change(|engine| {
         outcome(
-            host.interface(name)
-                .and_then(|mut interface| interface.clear_cooperate_status()),
+            engine
+                .call(|host| {
+                    host.interface(name)
+                        .and_then(|mut interface| interface.clear_cooperate_status())
+                })
+                .0,
         )
     })
 }
 
-/// Nanoseconds since the epoch of the node's clock.
-fn nanos(stamp: Stamp) -> i64 {
-    i64::from(stamp.sec)
-        .saturating_mul(1_000_000_000)
-        .saturating_add(i64::from(stamp.nanosec))
-}
-
 pub(crate) fn advance(core: &Core, now: Stamp) -> Vec<Uuid> {
-    let now_ns = nanos(now);
-    let origin_ns = *core.origin_ns.get_or_init(|| now_ns);
-    // A reading before the first is a clock that went back: no time passes (`Host::advance_to`).
-    let now_ms = u64::try_from(now_ns.saturating_sub(origin_ns) / 1_000_000).unwrap_or(0);
-    core.change(|host| match host.advance_to(now_ms) {
-        Ok(Some(transition)) => transition.retired.into_iter().map(uuid).collect(),
-        // No time passed, or (never today) the core refused the tick.
-        Ok(None) | Err(_) => Vec::new(),
+    // The engine takes the first reading as its time 0, and a reading before the last as no
+    // time passing.
+    core.change(|engine| match engine.advance(Now::of_stamp(time(now))).1 {
+        Some(transition) => transition.retired.into_iter().map(uuid).collect(),
+        None => Vec::new(),
     })
 }
 
@@ -298,19 +304,28 @@ pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]
             })
             .collect(),
     };
-    core.change(|host| {
+    core.change(|engine| {
         outcome(
-            host.interface(name)
-                .and_then(|mut interface| interface.cooperate_commands(&request).result),
+            engine
+                .call(|host| {
+                    host.interface(name)
+                        .and_then(|mut interface| interface.cooperate_commands(&request).result)
+                })
+                .0,
         )
     })
 }
 
 pub(crate) fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome {
-    core.change(|host| {
+    core.change(|engine| {
         outcome(
-            host.interface(name)
-                .and_then(|mut interface| interface.auto_mode(&AutoModeRequest { enable }).result),
+            engine
+                .call(|host| {
+                    host.interface(name).and_then(|mut interface| {
+                        interface.auto_mode(&AutoModeRequest { enable }).result
+                    })
+                })
+                .0,
         )
     })
 }

@@ -1,13 +1,14 @@
 //! Exhaustive stateright models of the cooperation core, and the checker's runs of them.
 //!
 //! Every model's `next_state` calls the library's [`cooperation::State::apply`] (or, for the
-//! RTC model, the adapter `cooperation_ros::rtc`), the code the library ships; no rule, guard or
+//! RTC model, the adapter `cooperation_ros::rtc`; for the engine model, the service engine
+//! `cooperation_ros::engine`), the code the library ships; no rule, guard or
 //! table of the specification is restated to move a state. The properties are stated from the
 //! specification (its tables are read from `spec/cooperation.md` itself) and named by its tags.
 //!
 //! The crate has three parts, one folder each:
 //!
-//! - [`model`]: the models (sequential, network, RTC, and a trivial one for the checker's own
+//! - [`model`]: the models (sequential, network, RTC, engine, and a trivial one for the checker's own
 //!   throughput), what they share, and the spec oracle they are compared with;
 //! - [`check`]: running the checker over them (strategy, budgets, progress, counterexamples),
 //!   random walks, rule-pair coverage, the pinned state counts, and the traces and summaries
@@ -28,6 +29,7 @@ pub mod check;
 pub mod model;
 
 pub use check::trace::Trace;
+pub use model::engine::{EngineBounds, EngineFault, EngineModel};
 pub use model::fault::Fault;
 pub use model::ids::ModelError;
 pub use model::network::{NetBounds, NetworkModel, Views};

@@ -7,6 +7,7 @@
 
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+use crate::engine::Now;
 use crate::Time;
 
 /// Monotonic time since the node started, and header stamps derived from it.
@@ -29,19 +30,23 @@ impl Clock {
         }
     }
 
-    /// Monotonic time since the start, in whole milliseconds.
+    /// Now, for the engine: the monotonic time since the start, and the stamp for it.
     #[must_use]
-    pub fn elapsed_ms(&self) -> u64 {
-        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
+    pub fn now(&self) -> Now {
+        let elapsed = self.start.elapsed();
+        let wall = self.wall_at_start.saturating_add(elapsed);
+        Now::new(
+            i64::try_from(elapsed.as_nanos()).unwrap_or(i64::MAX),
+            Time {
+                sec: i32::try_from(wall.as_secs()).unwrap_or(i32::MAX),
+                nanosec: wall.subsec_nanos(),
+            },
+        )
     }
 
     /// A header stamp for now: the wall time at start plus the monotonic time since.
     #[must_use]
     pub fn stamp(&self) -> Time {
-        let now = self.wall_at_start.saturating_add(self.start.elapsed());
-        Time {
-            sec: i32::try_from(now.as_secs()).unwrap_or(i32::MAX),
-            nanosec: now.subsec_nanos(),
-        }
+        self.now().stamp
     }
 }

@@ -9,15 +9,15 @@
 //! reply's fields; the server copies the request's into its reply, and the client takes only the
 //! replies that carry its own.
 //!
-//! Reading takes no lock ([`Endpoint::read`]); answering is one call on the node's [`Host`]
-//! ([`answer`]), through [`Host::answer`](crate::Host::answer) for the AD API services and
-//! [`sync::answer`] for the planning modules'. Nothing here re-states a rule of the core.
+//! Reading takes no lock ([`Endpoint::read`]); answering is the engine's
+//! ([`Engine::handle`](crate::engine::Engine::handle)), whatever door a request came through.
+//! Nothing here re-states a rule of the core.
 //!
 //! ```
-//! use cooperation_ros::dds::{self, Endpoint, RequestHeader};
+//! use cooperation_ros::dds::{self, RequestHeader};
+//! use cooperation_ros::engine::{Endpoint, Engine, Now, Options};
 //! use cooperation_ros::wire::{GetCooperationPoliciesRequest, Service};
-//! use cooperation_ros::{cdr, Host, Time};
-//! use cooperation_ros::rtc::Rtc;
+//! use cooperation_ros::cdr;
 //!
 //! let endpoint = Endpoint::Ad(Service::GetPolicies);
 //! assert_eq!(endpoint.request_topic(), "rq/api/planning/cooperation/get_policiesRequest");
@@ -32,18 +32,18 @@
 //! let (read_header, incoming) = endpoint.read(&request)?;
 //! assert_eq!(read_header, header);
 //!
-//! let config = cooperation_ros::settings::load(None)?;
-//! let mut host = Host::new(cooperation::State::new(config)?, Rtc::standard());
-//! let answered = dds::answer(&mut host, incoming, Time::default());
-//! let reply = header.frame(&answered.outgoing.to_cdr()?);
+//! let mut engine = Engine::new(cooperation_ros::settings::load(None)?, Options::default())?;
+//! let handled = engine.handle(incoming, Now::default());
+//! let reply = header.frame(&dds::to_cdr(&handled.reply)?);
 //! assert_eq!(RequestHeader::split(&reply)?.0, header);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use crate::cdr::{self, CdrError, CDR_LE};
-use crate::sync::{self, SyncCooperateStatusRequest, SyncRequest, SyncResponse};
-use crate::wire::{self, Request, Response, ResponseStatus, Service};
-use crate::{Host, Time};
+pub use crate::engine::Endpoint;
+use crate::engine::{Reply, Request};
+use crate::sync::{SyncCooperateStatusRequest, SyncRequest};
+use crate::wire::{self, Response, Service};
 
 /// The DDS topic of the ROS 2 topic `name` (`/api/planning/velocity_factors` →
 /// `rt/api/planning/velocity_factors`).
@@ -123,42 +123,8 @@ impl RequestHeader {
     }
 }
 
-/// A service the node serves over DDS.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
-pub enum Endpoint {
-    /// One of the AD API's three cooperation services.
-    Ad(Service),
-    /// The planning modules' `/cooperation/rtc/sync` ([`sync`]).
-    Sync,
-}
-
+/// The DDS names of an endpoint's topics and types, and its requests read from CDR.
 impl Endpoint {
-    /// Every endpoint.
-    pub const ALL: [Self; 4] = [
-        Self::Ad(Service::SetCommands),
-        Self::Ad(Service::SetPolicies),
-        Self::Ad(Service::GetPolicies),
-        Self::Sync,
-    ];
-
-    /// The ROS 2 service name.
-    #[must_use]
-    pub const fn name(self) -> &'static str {
-        match self {
-            Self::Ad(service) => service.name(),
-            Self::Sync => sync::NAME,
-        }
-    }
-
-    /// The ROS 2 service type.
-    #[must_use]
-    pub const fn ros_type(self) -> &'static str {
-        match self {
-            Self::Ad(service) => service.type_name(),
-            Self::Sync => sync::TYPE,
-        }
-    }
-
     /// The DDS topic requests arrive on.
     #[must_use]
     pub fn request_topic(self) -> String {
@@ -184,137 +150,46 @@ impl Endpoint {
     }
 
     /// A request as it arrived (encapsulation header, request header, fields): its header and
-    /// what it asks, or why it cannot be read ([`Incoming::Malformed`], answered with a refusal).
+    /// what it asks, or why it cannot be read ([`Request::Malformed`], answered with a refusal).
     /// Takes no lock.
     ///
     /// # Errors
     /// A request too short for its headers, or not little-endian CDR: it cannot be answered.
-    pub fn read(self, framed: &[u8]) -> Result<(RequestHeader, Incoming), CdrError> {
+    pub fn read(self, framed: &[u8]) -> Result<(RequestHeader, Request), CdrError> {
         let (header, message) = RequestHeader::split(framed)?;
-        if message.len() > wire::MAX_REQUEST_BYTES {
-            let malformed = CdrError {
-                message: format!(
-                    "the request is {} bytes, more than the {} a request may have",
-                    message.len(),
-                    wire::MAX_REQUEST_BYTES
-                ),
-                offset: 0,
-            };
-            return Ok((header, Incoming::Malformed(self, malformed)));
+        if let Err(malformed) = wire::check_request_len(message.len()) {
+            return Ok((header, Request::Malformed(self, malformed.to_string())));
         }
-        let incoming = match self {
+        let request = match self {
             Self::Ad(Service::SetCommands) => {
-                cdr::from_slice(&message).map(|r| Incoming::Ad(Request::SetCommands(r)))
+                cdr::from_slice(&message).map(|r| Request::Ad(wire::Request::SetCommands(r)))
             }
             Self::Ad(Service::SetPolicies) => {
-                cdr::from_slice(&message).map(|r| Incoming::Ad(Request::SetPolicies(r)))
+                cdr::from_slice(&message).map(|r| Request::Ad(wire::Request::SetPolicies(r)))
             }
             Self::Ad(Service::GetPolicies) => {
-                cdr::from_slice(&message).map(|r| Incoming::Ad(Request::GetPolicies(r)))
+                cdr::from_slice(&message).map(|r| Request::Ad(wire::Request::GetPolicies(r)))
             }
             Self::Sync => cdr::from_slice::<SyncCooperateStatusRequest>(&message)
-                .map(|r| Incoming::Sync(SyncRequest::from(r))),
+                .map(|r| Request::Sync(SyncRequest::from(r))),
         };
         Ok((
             header,
-            incoming.unwrap_or_else(|error| Incoming::Malformed(self, error)),
+            request.unwrap_or_else(|error| Request::Malformed(self, error.to_string())),
         ))
     }
 }
 
-/// A request, read.
-#[derive(Clone, PartialEq, Debug)]
-pub enum Incoming {
-    /// An AD API request.
-    Ad(Request),
-    /// A planning module's sync.
-    Sync(SyncRequest),
-    /// A request of this endpoint that does not decode, and why.
-    Malformed(Endpoint, CdrError),
-}
-
-/// A reply, before it is written.
-#[derive(Clone, PartialEq, Debug)]
-pub enum Outgoing {
-    /// An AD API response.
-    Ad(Response),
-    /// A sync's response.
-    Sync(SyncResponse),
-}
-
-impl Outgoing {
-    /// The reply in CDR, with its encapsulation header (frame it with the request's
-    /// [`RequestHeader::frame`]).
-    ///
-    /// # Errors
-    /// A UUID that is not 16 bytes long (the node's replies never hold one).
-    pub fn to_cdr(&self) -> Result<Vec<u8>, CdrError> {
-        match self {
-            Self::Ad(Response::SetCommands(response)) => cdr::to_vec(response),
-            Self::Ad(Response::SetPolicies(response)) => cdr::to_vec(response),
-            Self::Ad(Response::GetPolicies(response)) => cdr::to_vec(response),
-            Self::Sync(response) => cdr::to_vec(response),
-        }
-    }
-
-    /// Whether it reports success.
-    #[must_use]
-    pub fn success(&self) -> bool {
-        match self {
-            Self::Ad(response) => response.status().success,
-            Self::Sync(response) => response.success,
-        }
-    }
-}
-
-/// What answering a request did.
-#[derive(Clone, PartialEq, Debug)]
-pub struct Answered {
-    /// The reply.
-    pub outgoing: Outgoing,
-    /// The core changed.
-    pub changed: bool,
-    /// The factors show the change: publish them soon.
-    pub shown: bool,
-}
-
-/// Answers `incoming` from `host` (`stamp`: the time the sync's statuses are stamped with).
-pub fn answer(host: &mut Host, incoming: Incoming, stamp: Time) -> Answered {
-    match incoming {
-        Incoming::Ad(request) => {
-            let answer = host.answer(&request);
-            Answered {
-                outgoing: Outgoing::Ad(answer.response),
-                changed: answer.changed,
-                shown: answer.changed,
-            }
-        }
-        Incoming::Sync(request) => {
-            let (response, effect) = sync::answer(host, &request, stamp);
-            Answered {
-                outgoing: Outgoing::Sync(response),
-                changed: effect.changed,
-                shown: effect.shown,
-            }
-        }
-        Incoming::Malformed(endpoint, error) => Answered {
-            outgoing: refusal(endpoint, &error),
-            changed: false,
-            shown: false,
-        },
-    }
-}
-
-/// The reply to a request of `endpoint` that does not decode: `PARAMETER_ERROR` (for the AD
-/// API) with the reader's explanation, every other field at its default.
-#[must_use]
-pub fn refusal(endpoint: Endpoint, error: &CdrError) -> Outgoing {
-    match endpoint {
-        Endpoint::Ad(service) => Outgoing::Ad(service.refused(ResponseStatus {
-            success: false,
-            code: ResponseStatus::PARAMETER_ERROR,
-            message: error.to_string(),
-        })),
-        Endpoint::Sync => Outgoing::Sync(sync::refused(error.to_string())),
+/// A reply in CDR, with its encapsulation header (frame it with the request's
+/// [`RequestHeader::frame`]).
+///
+/// # Errors
+/// A UUID that is not 16 bytes long (the node's replies never hold one).
+pub fn to_cdr(reply: &Reply) -> Result<Vec<u8>, CdrError> {
+    match reply {
+        Reply::Ad(Response::SetCommands(response)) => cdr::to_vec(response),
+        Reply::Ad(Response::SetPolicies(response)) => cdr::to_vec(response),
+        Reply::Ad(Response::GetPolicies(response)) => cdr::to_vec(response),
+        Reply::Sync(response) => cdr::to_vec(response),
     }
 }

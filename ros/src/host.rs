@@ -1,10 +1,11 @@
 //! A process that hosts the core for others: the core with the bookkeeping its adapters keep
-//! ([`Host`]), and that value behind one lock ([`Shared`]).
+//! ([`Host`]), and the service engine over it behind one lock ([`Shared`]).
 
-use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use cooperation::{State, Transition};
 
+use crate::engine::{Engine, Now, Publication};
 use crate::rtc::{Interface, Rtc, RtcError, View};
 use crate::wire;
 
@@ -106,7 +107,7 @@ impl Host {
     }
 }
 
-/// A [`Host`] behind one lock: `Send + Sync`, shareable through an `Arc` between a planning
+/// An [`Engine`] behind one lock: `Send + Sync`, shareable through an `Arc` between a planning
 /// cycle, service callbacks and a clock.
 ///
 /// Every change goes through [`State::apply`] under the lock, so each call is applied whole or
@@ -117,75 +118,111 @@ impl Host {
 /// ```
 /// use std::sync::Arc;
 /// use cooperation::*;
-/// use cooperation_ros::rtc::{Rtc, StatusReport};
-/// use cooperation_ros::{Host, Shared};
+/// use cooperation_ros::engine::{Engine, Options};
+/// use cooperation_ros::rtc::StatusReport;
+/// use cooperation_ros::Shared;
 ///
-/// let rtc = Rtc::standard();
-/// let state = State::new(Config::new(rtc.policies(true)))?;
-/// let shared = Arc::new(Shared::new(Host::new(state, rtc)));
+/// let config = cooperation_ros::settings::load(None)?;
+/// let shared = Arc::new(Shared::new(Engine::new(config, Options::default())?));
 /// let id = SceneId::from_u128(7);
 ///
 /// // The planning thread reports a scene through its RTC interface ...
 /// let planner = Arc::clone(&shared);
 /// std::thread::spawn(move || {
-///     planner.update(|host| {
+///     planner.update(|engine| {
 ///         let report = StatusReport::new(id, true, Phase::Waiting, 10.0, 30.0);
-///         host.interface("intersection")?.update_cooperate_status(&report).map(drop)
+///         engine
+///             .call(|host| host.interface("intersection")?.update_cooperate_status(&report).map(drop))
+///             .0
 ///     })
 /// })
 /// .join()
 /// .expect("the planning thread ran")?;
 ///
-/// // ... and a service thread reads it: required policy, no operator decision yet.
-/// assert_eq!(shared.read(|host| host.state().merged_decision(id)), Some(Decision::Deactivate));
+/// // ... and a service thread reads it: the built-in settings' optional policy, the module
+/// // safe, no operator decision yet.
+/// assert_eq!(shared.read(|engine| engine.state().merged_decision(id)), Some(Decision::Activate));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug)]
 pub struct Shared {
-    host: Mutex<Host>,
+    inner: Mutex<Inner>,
+}
+
+/// What the lock guards: the engine, and its newest publication for every door that sends
+/// one.
+#[derive(Debug)]
+struct Inner {
+    engine: Engine,
+    /// How many publications the engine has handed out, and the newest.
+    published: u64,
+    newest: Option<Arc<Publication>>,
 }
 
 impl Shared {
-    /// A handle owning `host`.
+    /// A handle owning `engine`.
     #[must_use]
-    pub const fn new(host: Host) -> Self {
+    pub const fn new(engine: Engine) -> Self {
         Self {
-            host: Mutex::new(host),
+            inner: Mutex::new(Inner {
+                engine,
+                published: 0,
+                newest: None,
+            }),
         }
     }
 
     /// The lock. A panic in another thread while it held the lock cannot have left the core
     /// half-changed: its only writers are `State::apply` and `State::apply_all`, which decide
-    /// before they write and do not panic, and the host's own bookkeeping is written after the
+    /// before they write and do not panic, and the engine's own bookkeeping is written after the
     /// core. So a poisoned lock is used as it is.
-    fn lock(&self) -> MutexGuard<'_, Host> {
-        self.host.lock().unwrap_or_else(PoisonError::into_inner)
+    fn lock(&self) -> MutexGuard<'_, Inner> {
+        self.inner.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     /// Runs `change` with the lock held: whatever it does is a sequence of inputs, each applied
     /// whole or not at all, and no other thread's input lands between them. Keep it short;
     /// every other caller waits for it.
-    pub fn update<R>(&self, change: impl FnOnce(&mut Host) -> R) -> R {
-        change(&mut self.lock())
+    pub fn update<R>(&self, change: impl FnOnce(&mut Engine) -> R) -> R {
+        change(&mut self.lock().engine)
     }
 
     /// Runs `query` between two changes: everything it reads is from one moment. Keep it short;
     /// every other caller waits for it.
-    pub fn read<R>(&self, query: impl FnOnce(&Host) -> R) -> R {
-        query(&self.lock())
+    pub fn read<R>(&self, query: impl FnOnce(&Engine) -> R) -> R {
+        query(&self.lock().engine)
     }
 
-    /// The host, when no other thread can reach the handle any more.
+    /// The newest publication for a door that has sent the first `sent` ones, with its number:
+    /// the engine's, if one is due at `now` ([`Engine::poll_publication`]), or one another door
+    /// polled since. Every door of a process sends every publication it sees, so that all the
+    /// doors of one engine show the same thing, each at its own pace.
+    pub fn publication(&self, now: Now, sent: u64) -> Option<(u64, Arc<Publication>)> {
+        let mut inner = self.lock();
+        if let Some(publication) = inner.engine.poll_publication(now) {
+            inner.published += 1;
+            inner.newest = Some(Arc::new(publication));
+        }
+        let number = inner.published;
+        inner
+            .newest
+            .as_ref()
+            .filter(|_| number > sent)
+            .map(|newest| (number, Arc::clone(newest)))
+    }
+
+    /// The engine, when no other thread can reach the handle any more.
     #[must_use]
-    pub fn into_inner(self) -> Host {
-        self.host
+    pub fn into_inner(self) -> Engine {
+        self.inner
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner)
+            .engine
     }
 }
 
-impl From<Host> for Shared {
-    fn from(host: Host) -> Self {
-        Self::new(host)
+impl From<Engine> for Shared {
+    fn from(engine: Engine) -> Self {
+        Self::new(engine)
     }
 }

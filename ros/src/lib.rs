@@ -14,9 +14,11 @@
 //! - [`cdr`]: the same messages in CDR, as ROS 2 sends them over DDS; [`dds`]: the services
 //!   as DDS carries them, from request bytes to reply bytes (`cooperation-ros2`).
 //! - [`sync`]: the planning modules' service of both nodes; [`clock`]: the nodes' one clock.
+//! - [`engine`]: the service engine every host drives: each door's request answered time
+//!   first, what the streams publish decided once, the core built once with the same defaults.
 //! - [`Host`] and [`Shared`]: the core with the RTC interfaces' routing and the time it was last
-//!   told, as one value, and that value behind one lock, for a process serving the core to
-//!   several callers (`cooperation-server`, `cooperation-ros2`, a C++ planner).
+//!   told, as one value, and the engine over it behind one lock, for a process serving the core
+//!   to several callers (`cooperation-server`, `cooperation-ros2`, a C++ planner).
 //!
 //! Every change still goes through [`cooperation::State::apply`] (or
 //! [`apply_all`](cooperation::State::apply_all), inputs applied all or none), the function the
@@ -59,6 +61,7 @@ mod base64;
 pub mod cdr;
 pub mod clock;
 pub mod dds;
+pub mod engine;
 mod host;
 mod path;
 pub mod rtc;

@@ -10,7 +10,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::rtc::{CooperateStatus, CooperateStatusArray, Lifecycle, RtcError, Uuid};
 use crate::{Host, Time};
-use cooperation::{Scene, SceneId, Sequence};
+use cooperation::{SceneId, Sequence};
 use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
 
@@ -178,31 +178,31 @@ pub struct Activation {
     pub force_deactivated: bool,
 }
 
-/// What a sync did to the core.
-#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
-pub struct Effect {
-    /// The core changed (a report also renews its scene's time to live).
-    pub changed: bool,
-    /// A change the factor streams show: a scene registered, retired, or reported with
-    /// anything other than its age different. Only this is worth a publication of its own.
-    pub shown: bool,
+/// The request from its JSON form (rosbridge's `args`), or a message naming the field that
+/// does not decode. A request over [`MAX_REQUEST_BYTES`](crate::wire::MAX_REQUEST_BYTES) is
+/// refused unread.
+///
+/// # Errors
+/// The message.
+pub fn read_json(args: &[u8]) -> Result<SyncRequest, String> {
+    crate::wire::check_request_len(args.len()).map_err(|malformed| malformed.to_string())?;
+    let mut reader = serde_json::Deserializer::from_slice(args);
+    let request: SyncRequest = serde_path_to_error::deserialize(&mut reader).map_err(|error| {
+        let path = error.path().to_string();
+        let inner = error.into_inner();
+        if path == "." {
+            inner.to_string()
+        } else {
+            format!("{path}: {inner}")
+        }
+    })?;
+    reader.end().map_err(|error| error.to_string())?;
+    Ok(request)
 }
 
-/// What the factor streams show of a scene: everything but its age.
-fn shown(scene: &Scene) -> impl PartialEq + '_ {
-    (
-        scene.module(),
-        scene.phase(),
-        scene.module_decision(),
-        scene.operator_decision(),
-        scene.is_requested(),
-        scene.geometry(),
-        scene.detail(),
-    )
-}
-
-/// A request's answer from the core, and what it did.
-pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, Effect) {
+/// A request's answer from the core, and whether it changed the core (a report also renews
+/// its scene's time to live). The engine ([`crate::engine`]) decides what is published.
+pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, bool) {
     // One sync holds the node's lock while it applies: it carries no more entries than a
     // command batch may.
     let most = host.state().limits().max_batch;
@@ -213,21 +213,20 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
              (the settings' max_batch)"
         );
         tracing::warn!("a sync refused: {message}");
-        return (refused(message), Effect::default());
+        return (refused(message), false);
     }
     let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
-        Err(error) => return (refused(error.to_string()), Effect::default()),
+        Err(error) => return (refused(error.to_string()), false),
     };
     let sequences = match stated_sequences(request) {
         Ok(sequences) => sequences,
-        Err(message) => return (refused(message), Effect::default()),
+        Err(message) => return (refused(message), false),
     };
-    let mut effect = Effect::default();
+    let mut changed = false;
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
     for status in &request.statuses {
         let stated = sequences.get(&status.uuid).copied();
-        let before = interface.view().scene(SceneId::from(status.uuid)).cloned();
         let outcome = status
             .status()
             .report()
@@ -241,20 +240,14 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         if let Err(error @ RtcError::SceneQuota { .. }) = &outcome {
             tracing::warn!("a scene refused: {error}");
         }
-        if outcome.is_ok() {
-            effect.changed = true;
-            let view = interface.view();
-            let after = view.scene(SceneId::from(status.uuid));
-            effect.shown |= before.as_ref().map(shown) != after.map(shown);
-        }
+        changed |= outcome.is_ok();
         results.push(result(status.uuid, outcome));
     }
     for &uuid in &request.removed {
         let outcome = interface
             .remove_cooperate_status(SceneId::from(uuid))
             .map(drop);
-        effect.changed |= outcome.is_ok();
-        effect.shown |= outcome.is_ok();
+        changed |= outcome.is_ok();
         results.push(result(uuid, outcome));
     }
     let view = interface.view();
@@ -279,7 +272,7 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         statuses,
         activations,
     };
-    (response, effect)
+    (response, changed)
 }
 
 /// Each stated sequence by its scene: each scene's at most once, and only for a scene a status

@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use cooperation::*;
 use cooperation_ros::wire::{self, Request, Response, ResponseStatus, Service};
-use cooperation_ros::{Host, Shared};
+use cooperation_ros::Host;
 
 fn commands(list: &[(SceneId, OperatorDecision)]) -> wire::SetCooperationCommandsRequest {
     list.iter()
@@ -213,21 +213,19 @@ fn a_request_over_the_limit_is_refused_unread() {
 #[test]
 fn a_host_answers_and_keeps_time() {
     let (rtc, state) = rtc_setup(false);
-    let shared = Shared::new(Host::new(state, rtc));
+    let mut host = Host::new(state, rtc);
     let request = Service::GetPolicies.read(b"{}").expect("reads");
-    let answer = shared.update(|host| host.answer(&request));
+    let answer = host.answer(&request);
     assert!(answer.response.status().success);
-    let ticks = shared.update(|host| {
-        [
-            host.advance_to(40).expect("ticks").map(|t| t.rule),
-            host.advance_to(40).expect("ticks").map(|t| t.rule),
-            host.advance_to(10).expect("ticks").map(|t| t.rule),
-            host.advance_to(50).expect("ticks").map(|t| t.rule),
-        ]
-    });
+    let ticks = [
+        host.advance_to(40).expect("ticks").map(|t| t.rule),
+        host.advance_to(40).expect("ticks").map(|t| t.rule),
+        host.advance_to(10).expect("ticks").map(|t| t.rule),
+        host.advance_to(50).expect("ticks").map(|t| t.rule),
+    ];
     assert_eq!(
         ticks,
         [Some(Rule::TimeAge), None, None, Some(Rule::TimeAge)]
     );
-    assert_eq!(shared.read(Host::told_ms), 50);
+    assert_eq!(host.told_ms(), 50);
 }

@@ -8,9 +8,9 @@ use std::sync::{Arc, Barrier};
 use std::thread;
 
 use cooperation::*;
-use cooperation_ros::rtc::Rtc;
+use cooperation_ros::engine::{self, Engine, Reply, Request};
 use cooperation_ros::wire::{self, ResponseStatus};
-use cooperation_ros::{Host, Shared};
+use cooperation_ros::{Shared, Time};
 
 const PLANNERS: usize = 4;
 const SCENES_PER_PLANNER: usize = 16;
@@ -45,7 +45,21 @@ fn shared() -> Arc<Shared> {
         },
     };
     let state = State::new(config).expect("valid config");
-    Arc::new(Shared::new(Host::new(state, Rtc::standard())))
+    Arc::new(Shared::new(Engine::from_state(
+        state,
+        engine::Options::default(),
+    )))
+}
+
+/// The AD API's answer to `request`, made at the time the core was last told.
+fn answer(shared: &Shared, request: wire::Request) -> ResponseStatus {
+    shared.update(|engine| {
+        let now = engine.told(Time::default());
+        match engine.handle(Request::Ad(request), now).reply {
+            Reply::Ad(response) => response.status().clone(),
+            Reply::Sync(response) => panic!("an AD API request got a sync's reply: {response:?}"),
+        }
+    })
 }
 
 fn decision(round: usize, n: usize) -> Decision {
@@ -93,7 +107,10 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                     report: Report::new(decision(0, n), Geometry::velocity(n as f32)),
                 };
                 assert_eq!(
-                    shared.update(|host| host.state_mut().apply(&register).map(|t| t.rule)),
+                    shared.update(|engine| engine
+                        .call(|host| host.state_mut().apply(&register))
+                        .0
+                        .map(|t| t.rule)),
                     Ok(Rule::RegisterNew)
                 );
             }
@@ -108,7 +125,7 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                     })
                     .collect();
                 let results = shared
-                    .update(|host| host.state_mut().apply_all(&cycle))
+                    .update(|engine| engine.call(|host| host.state_mut().apply_all(&cycle)).0)
                     .expect("every update applies");
                 assert_eq!(results.len(), SCENES_PER_PLANNER);
                 for result in results {
@@ -143,20 +160,18 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                     });
                 }
                 let request = batch.iter().copied().collect();
-                let response = shared
-                    .update(|host| wire::set_commands(host.state_mut(), &request))
-                    .response;
+                let status = answer(&shared, wire::Request::SetCommands(request));
                 // Every scene is live and cancellable throughout: a batch fails exactly when
                 // it is spoiled.
-                assert_eq!(response.status.success, !spoiled, "round {round}");
-                if response.status.success {
+                assert_eq!(status.success, !spoiled, "round {round}");
+                if status.success {
                     accepted += 1;
                     for command in &batch {
                         let n = (command.id.to_u128() & 0xffff_ffff) as usize;
                         last[n] = Some(command.decision);
                     }
                 } else {
-                    assert_eq!(response.status.code, ResponseStatus::PARAMETER_ERROR);
+                    assert_eq!(status.code, ResponseStatus::PARAMETER_ERROR);
                 }
                 // Nobody else commands these scenes: each holds this operator's last accepted
                 // decision, so a rejected batch left nothing behind.
@@ -192,8 +207,8 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
                     },
                 ];
                 let request = settings.into_iter().collect();
-                let answer = shared.update(|host| wire::set_policies(host.state_mut(), &request));
-                assert!(answer.response.status.success);
+                let status = answer(&shared, wire::Request::SetPolicies(request));
+                assert!(status.success);
                 last = Some((round, policy));
             }
             last
@@ -204,10 +219,17 @@ fn many_threads_lose_nothing_and_half_apply_nothing() {
         let (shared, start, done) = (Arc::clone(&shared), Arc::clone(&start), Arc::clone(&done));
         thread::spawn(move || {
             start.wait();
+            // The engine's time 0: its first reading.
+            shared.update(|engine| engine.advance(engine::Now::default()));
             let mut ticks = 0u64;
             while !done.load(Ordering::Relaxed) && ticks < 100_000 {
-                let ticked = shared.update(|host| host.advance_to(host.told_ms() + 1));
-                assert!(matches!(ticked, Ok(Some(_))));
+                // One millisecond later than the core was last told.
+                let ticked = shared.update(|engine| {
+                    let told = engine.told(Time::default());
+                    let later = engine::Now::new(told.reading_ns + 1_000_000, told.stamp);
+                    engine.advance(later).1
+                });
+                assert!(ticked.is_some());
                 ticks += 1;
             }
             ticks
@@ -290,21 +312,20 @@ fn a_panicking_reader_does_not_break_the_handle() {
         report: Report::new(Decision::Activate, Geometry::velocity(1.0)),
     };
     shared
-        .update(|host| host.state_mut().apply(&register))
+        .update(|engine| engine.call(|host| host.state_mut().apply(&register)).0)
         .expect("registers");
-    let before = shared.read(Host::clone);
+    let before = shared.read(Engine::clone);
     let other = Arc::clone(&shared);
     let panicked = thread::spawn(move || other.read(|_| panic!("a reader's own bug"))).join();
     assert!(panicked.is_err());
-    assert_eq!(shared.read(Host::clone), before);
+    assert_eq!(shared.read(Engine::clone), before);
     let request = [Command {
         id,
         decision: OperatorDecision::Deactivate,
     }]
     .into_iter()
     .collect();
-    let answer = shared.update(|host| wire::set_commands(host.state_mut(), &request));
-    assert!(answer.response.status.success);
+    assert!(answer(&shared, wire::Request::SetCommands(request)).success);
     assert_eq!(
         shared.read(|host| host.state().merged_decision(id)),
         Some(Decision::Deactivate)

@@ -3,19 +3,22 @@
 //! from request bytes to reply bytes, malformed requests included. The node itself is tested
 //! against Cyclone DDS by `tools/ros2-interop`.
 
-use cooperation::State;
 use cooperation_ros::cdr::{self, CDR_LE};
-use cooperation_ros::dds::{self, Endpoint, Incoming, Outgoing, RequestHeader};
-use cooperation_ros::rtc::{self, CooperateStatus, Rtc};
+use cooperation_ros::dds::{self, Endpoint, RequestHeader};
+use cooperation_ros::engine::{Engine, Handled, Now, Options, Reply, Request};
+use cooperation_ros::rtc::{self, CooperateStatus};
 use cooperation_ros::sync::{
     StatedSequence, SyncCooperateStatusRequest, SyncRequest, SyncResponse,
 };
 use cooperation_ros::wire::*;
-use cooperation_ros::{Host, Time};
+use cooperation_ros::Time;
 
-fn host() -> Host {
+/// An engine with the built-in settings whose streams have published what it shows.
+fn host() -> Engine {
     let config = cooperation_ros::settings::load(None).expect("the built-in settings");
-    Host::new(State::new(config).expect("valid"), Rtc::standard())
+    let mut engine = Engine::new(config, Options::default()).expect("valid");
+    assert!(engine.poll_publication(Now::default()).is_some());
+    engine
 }
 
 const HEADER: RequestHeader = RequestHeader {
@@ -25,15 +28,15 @@ const HEADER: RequestHeader = RequestHeader {
 
 /// Frames `message`, reads it at `endpoint`, answers it, and reads the reply back.
 fn call<R: serde::de::DeserializeOwned>(
-    host: &mut Host,
+    host: &mut Engine,
     endpoint: Endpoint,
     message: &impl serde::Serialize,
-) -> (R, dds::Answered) {
+) -> (R, Handled) {
     let request = HEADER.frame(&cdr::to_vec(message).expect("encodes"));
     let (header, incoming) = endpoint.read(&request).expect("a readable header");
     assert_eq!(header, HEADER);
-    let answered = dds::answer(host, incoming, Time::new(5, 0));
-    let reply = HEADER.frame(&answered.outgoing.to_cdr().expect("encodes"));
+    let answered = host.handle(incoming, Now::new(0, Time::new(5, 0)));
+    let reply = HEADER.frame(&dds::to_cdr(&answered.reply).expect("encodes"));
     let (header, body) = RequestHeader::split(&reply).expect("the reply's header");
     assert_eq!(header, HEADER, "the reply carries the request's header");
     (cdr::from_slice(&body).expect("the reply decodes"), answered)
@@ -158,19 +161,19 @@ fn a_malformed_request_is_refused_with_the_readers_explanation_and_changes_nothi
         let (header, incoming) = endpoint.read(&framed).expect("the header reads");
         assert_eq!(header, HEADER);
         assert!(
-            matches!(&incoming, Incoming::Malformed(e, _) if *e == endpoint),
+            matches!(&incoming, Request::Malformed(e, _) if *e == endpoint),
             "{incoming:?}"
         );
-        let answered = dds::answer(&mut host, incoming, Time::default());
-        assert!(!answered.changed && !answered.shown);
-        let message = match &answered.outgoing {
-            Outgoing::Ad(response) => {
+        let answered = host.handle(incoming, Now::default());
+        assert!(answered.change.revision.is_none() && !answered.change.publish);
+        let message = match &answered.reply {
+            Reply::Ad(response) => {
                 assert_eq!(response.status().code, ResponseStatus::PARAMETER_ERROR);
                 response.status().message.clone()
             }
-            Outgoing::Sync(response) => response.message.clone(),
+            Reply::Sync(response) => response.message.clone(),
         };
-        assert!(!answered.outgoing.success());
+        assert!(!answered.reply.success());
         assert!(
             message.starts_with("CDR at byte"),
             "{endpoint:?}: {message}"
@@ -187,7 +190,7 @@ fn a_malformed_request_is_refused_with_the_readers_explanation_and_changes_nothi
     };
     let (response, answered): (SetCooperationCommandsResponse, _) =
         call(&mut host, Endpoint::Ad(Service::SetCommands), &request);
-    assert!(!response.status.success && !answered.changed);
+    assert!(!response.status.success && answered.change.revision.is_none());
     assert!(response.status.message.contains("99"), "{response:?}");
     assert_eq!(host.state(), &before);
 }
@@ -200,8 +203,8 @@ fn a_request_over_the_size_limit_is_refused_unread() {
         .read(&HEADER.frame(&message))
         .expect("the header reads");
     match incoming {
-        Incoming::Malformed(Endpoint::Sync, error) => {
-            assert!(error.message.contains("more than the 1048576"), "{error}");
+        Request::Malformed(Endpoint::Sync, error) => {
+            assert!(error.contains("at most 1048576 bytes"), "{error}");
         }
         other => panic!("{other:?}"),
     }
@@ -232,7 +235,7 @@ fn the_sync_request_in_cdr_reads_as_its_json_form_does() {
         scene(9).uuid
     );
     let from_json: SyncRequest = serde_json::from_str(&json).expect("the JSON form reads");
-    assert_eq!(incoming, Incoming::Sync(from_json));
+    assert_eq!(incoming, Request::Sync(from_json));
 }
 
 #[test]
@@ -244,7 +247,7 @@ fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
         Endpoint::Ad(Service::GetPolicies),
         &GetCooperationPoliciesRequest {},
     );
-    assert!(policies.status.success && !answered.changed);
+    assert!(policies.status.success && answered.change.revision.is_none());
     assert_eq!(
         policies.policies,
         get_policies(host.state(), &GetCooperationPoliciesRequest {}).policies
@@ -259,7 +262,7 @@ fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
     };
     let (synced, answered): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &report);
     assert!(synced.success, "{synced:?}");
-    assert!(answered.changed && answered.shown);
+    assert!(answered.change.revision.is_some() && answered.change.publish);
     assert_eq!(synced.activations.len(), 1);
     assert!(!synced.activations[0].activated);
     let factors = velocity_factors(host.state(), Time::default());
@@ -280,7 +283,7 @@ fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
     let (response, answered): (SetCooperationCommandsResponse, _) =
         call(&mut host, Endpoint::Ad(Service::SetCommands), &command);
     assert!(response.status.success, "{response:?}");
-    assert!(answered.changed && answered.shown);
+    assert!(answered.change.revision.is_some() && answered.change.publish);
     let (synced, _): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &report);
     let activation = synced.activations[0];
     assert!(activation.activated && activation.force_activated && !activation.force_deactivated);
@@ -292,17 +295,18 @@ fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
     let (response, answered): (SetCooperationCommandsResponse, _) =
         call(&mut host, Endpoint::Ad(Service::SetCommands), &unknown);
     assert!(!response.status.success && !response.status.message.is_empty());
-    assert!(!answered.changed);
+    assert!(answered.change.revision.is_none());
     assert_eq!(host.state(), &before);
 
-    // The module removes it.
+    // The module removes it: the streams, which showed it, must show it gone.
+    assert!(host.poll_publication(Now::default()).is_some());
     let removal = SyncCooperateStatusRequest {
         interface: "intersection".to_owned(),
         removed: vec![scene(1)],
         ..SyncCooperateStatusRequest::default()
     };
     let (synced, answered): (SyncResponse, _) = call(&mut host, Endpoint::Sync, &removal);
-    assert!(synced.success && answered.shown, "{synced:?}");
+    assert!(synced.success && answered.change.publish, "{synced:?}");
     assert!(velocity_factors(host.state(), Time::default())
         .factors
         .is_empty());
@@ -321,7 +325,7 @@ fn an_unknown_interface_is_refused_as_a_whole() {
         !synced.success && synced.message.contains("no_such_module"),
         "{synced:?}"
     );
-    assert!(!answered.changed);
+    assert!(answered.change.revision.is_none());
 }
 
 /// A sync's stated sequences count against `max_batch` with its statuses and removals, each
@@ -369,7 +373,7 @@ fn a_syncs_sequences_are_counted_matched_and_stated_once() {
             "{reason}: {synced:?}"
         );
         assert!(synced.results.is_empty(), "{synced:?}");
-        assert!(!answered.changed);
+        assert!(answered.change.revision.is_none());
         assert_eq!(host.state().scenes().count(), 0, "nothing registered");
     }
     // The same scene with its sequence stated once registers in that sequence.

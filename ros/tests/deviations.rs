@@ -146,19 +146,23 @@ fn coop_dev_race_1() {
     assert_eq!(here, there);
     // Shared: two threads through one handle, each input whole; the full hammering is in
     // ros/tests/concurrency.rs.
-    let host = cooperation_ros::Host::new(with_scenes(), rtc::Rtc::standard());
-    let shared = std::sync::Arc::new(cooperation_ros::Shared::new(host));
+    let engine = cooperation_ros::engine::Engine::from_state(with_scenes(), Default::default());
+    let shared = std::sync::Arc::new(cooperation_ros::Shared::new(engine));
     let other = std::sync::Arc::clone(&shared);
     let operator = std::thread::spawn(move || {
         let commands = vec![Command {
             id: id(1),
             decision: OperatorDecision::Deactivate,
         }];
-        other.update(|host| host.state_mut().apply(&Input::SetCommands { commands }))
+        other.update(|engine| {
+            engine
+                .call(|host| host.state_mut().apply(&Input::SetCommands { commands }))
+                .0
+        })
     });
-    let owner = shared.update(|host| {
+    let owner = shared.update(|engine| {
         let input = update(id(1), LANE_CHANGE, Phase::Running, Decision::Activate);
-        host.state_mut().apply(&input)
+        engine.call(|host| host.state_mut().apply(&input)).0
     });
     assert!(operator.join().expect("thread").is_ok());
     assert_eq!(owner.map(|t| t.rule), Ok(Rule::OwnerUpdate));

@@ -12,7 +12,7 @@
 //! - **Command to publication.** For each `set_commands`, the time until the client's reader of
 //!   `velocity_factors` has a sample published after the command's reply.
 //! - **In process.** The same requests read, answered and framed without DDS
-//!   (`Endpoint::read`, `dds::answer`, `Outgoing::to_cdr`), on a core with the same scenes; and a
+//!   (`Endpoint::read`, `Engine::handle`, `dds::to_cdr`), on an engine with the same scenes; and a
 //!   publication's two messages built and written in CDR, against their JSON for rosbridge.
 //!
 //! The node's periodic publication is set to an hour. Nothing leaves the host; run it in a
@@ -24,10 +24,11 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cooperation_ros::dds::{self, Endpoint, RequestHeader};
-use cooperation_ros::rtc::{self, CooperateStatus, Rtc};
-use cooperation_ros::sync::{self, SyncRequest, SyncStatus};
+use cooperation_ros::engine::{self, Engine, Now, Reply, Request};
+use cooperation_ros::rtc::{self, CooperateStatus};
+use cooperation_ros::sync::{SyncRequest, SyncStatus};
 use cooperation_ros::wire::{self, *};
-use cooperation_ros::{cdr, Host, Time};
+use cooperation_ros::{cdr, Time};
 use cooperation_ros2::raw::{Raw, RawAdapter};
 use cooperation_ros2::{Node, Options};
 use rustdds::mio1::{Events, Interest, Poll, Token};
@@ -68,7 +69,7 @@ fn scene(index: usize) -> rtc::Uuid {
 }
 
 /// Registers the scenes, 125 on each interface, through the sync service.
-fn register(host: &mut Host) {
+fn register(engine: &mut Engine) {
     for (which, interface) in INTERFACES.into_iter().enumerate() {
         let statuses = (0..SCENES / INTERFACES.len())
             .map(|i| {
@@ -93,10 +94,13 @@ fn register(host: &mut Host) {
             sequences: Vec::new(),
             removed: Vec::new(),
         };
-        let (response, _) = sync::answer(host, &request, Time::default());
+        let handled = engine.handle(Request::Sync(request), Now::default());
+        let Reply::Sync(response) = handled.reply else {
+            panic!("a sync's reply is a sync response")
+        };
         assert!(response.success, "{}", response.message);
     }
-    assert_eq!(host.state().scenes().count(), SCENES);
+    assert_eq!(engine.state().scenes().count(), SCENES);
 }
 
 fn command(iteration: usize) -> SetCooperationCommandsRequest {
@@ -316,10 +320,7 @@ fn main() {
         .expect("the node ran");
 
     // In process: the same work without DDS.
-    let mut host = Host::new(
-        cooperation::State::new(config).expect("config"),
-        Rtc::standard(),
-    );
+    let mut host = Engine::new(config, engine::Options::default()).expect("config");
     register(&mut host);
     let header = RequestHeader { guid: 1, seq: 1 };
     let framed_get = header.frame(&get);
@@ -345,16 +346,16 @@ fn main() {
         let (h, incoming) = Endpoint::Ad(Service::GetPolicies)
             .read(&framed_get)
             .expect("read");
-        let reply = dds::answer(&mut host, incoming, Time::default());
-        black_box(h.frame(&reply.outgoing.to_cdr().expect("encodes")));
+        let reply = host.handle(incoming, Now::default());
+        black_box(h.frame(&dds::to_cdr(&reply.reply).expect("encodes")));
         answer_get.times.push(started.elapsed());
 
         let started = Instant::now();
         let (h, incoming) = Endpoint::Ad(Service::SetCommands)
             .read(framed)
             .expect("read");
-        let reply = dds::answer(&mut host, incoming, Time::default());
-        black_box(h.frame(&reply.outgoing.to_cdr().expect("encodes")));
+        let reply = host.handle(incoming, Now::default());
+        black_box(h.frame(&dds::to_cdr(&reply.reply).expect("encodes")));
         answer_set.times.push(started.elapsed());
 
         let started = Instant::now();

@@ -36,8 +36,9 @@ struct Args {
     /// The ROS 2 line of the peers (the length of a Gid in ros_discovery_info).
     #[arg(long, value_enum, default_value_t = Distro::Humble)]
     distro: Distro,
-    /// Periodic publications of the factors per second (they are also published on change).
-    #[arg(long, default_value_t = 10.0)]
+    /// Periodic publications of the factors per second (they are also published on change);
+    /// the engine's default interval unless given.
+    #[arg(long, default_value_t = cooperation_ros::engine::PUBLICATION_RATE_HZ)]
     rate: f64,
     /// Live scenes each RTC interface may hold.
     #[arg(long, default_value_t = cooperation_ros::rtc::SCENE_QUOTA)]

@@ -1,23 +1,25 @@
-//! The node: the verified core behind one lock ([`Shared`]), its clock, and the DDS entities
-//! that reach it, driven by one thread that polls them.
+//! The node: the service engine ([`cooperation_ros::engine`]) behind one lock ([`Shared`]), its
+//! clock, and the DDS entities that reach it, driven by one thread that polls them.
 //!
-//! Each service request is read outside the lock ([`Endpoint::read`]), answered in one short
-//! critical section ([`dds::answer`]), and its reply written once the client's reply reader is
-//! matched, or after [`REPLY_WAIT`] at most: a reliable, volatile writer does not send a sample
-//! to a reader it matches later, so a reply written before the match would be lost. The factors
-//! are published every `publish_every` and soon after a change they show.
+//! Each service request is read outside the lock ([`Endpoint::read`]), answered by the engine
+//! in one short critical section ([`Engine::handle`]), and its reply written once the client's
+//! reply reader is matched, or after [`REPLY_WAIT`] at most: a reliable, volatile writer does not
+//! send a sample to a reader it matches later, so a reply written before the match would be
+//! lost. The factors are published when the engine says a publication is due: every
+//! `publish_every`, and at once after a change they show.
 
 use std::collections::BTreeSet;
 use std::net::IpAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use cooperation::{Config, State};
+use cooperation::Config;
 use cooperation_ros::clock::Clock;
-use cooperation_ros::dds::{self, Endpoint, Incoming};
-use cooperation_ros::rtc::Rtc;
+use cooperation_ros::dds::{self, Endpoint};
+use cooperation_ros::engine::{self, Engine, Request};
 use cooperation_ros::wire;
-use cooperation_ros::{cdr, Host, Shared};
+use cooperation_ros::{cdr, Shared};
 use rustdds::mio1::{Events, Interest, Poll, Token};
 use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::policy::{Durability, History, Reliability};
@@ -66,8 +68,8 @@ impl Default for Options {
             name: "cooperation".to_owned(),
             namespace: "/".to_owned(),
             distro: Distro::Humble,
-            publish_every: Duration::from_millis(100),
-            scene_quota: cooperation_ros::rtc::SCENE_QUOTA,
+            publish_every: Duration::from_millis(engine::PUBLISH_EVERY_MS),
+            scene_quota: engine::Options::default().scene_quota,
         }
     }
 }
@@ -91,8 +93,10 @@ struct Pending {
 
 /// The node.
 pub struct Node {
-    shared: Shared,
+    shared: Arc<Shared>,
     clock: Clock,
+    /// How many of the engine's publications the factor topics have had.
+    sent: u64,
     options: Options,
     poll: Poll,
     servers: Vec<Server>,
@@ -101,7 +105,6 @@ pub struct Node {
     /// Kept for the life of the node: the graph's sample is transient-local.
     _graph: DataWriter<Raw, RawAdapter>,
     pending: Vec<Pending>,
-    next_publication: Instant,
     /// Kept last: the entities above belong to it.
     _participant: DomainParticipant,
 }
@@ -193,8 +196,30 @@ impl Node {
     /// # Errors
     /// The core's refusal of the configuration, or what DDS could not create.
     pub fn new(config: Config, options: Options) -> Result<Self, String> {
-        let state = State::new(config).map_err(|error| error.to_string())?;
-        let rtc = Rtc::standard().with_scene_quota(options.scene_quota);
+        let engine = Engine::new(
+            config,
+            engine::Options {
+                scene_quota: options.scene_quota,
+                publish_every_ms: u64::try_from(options.publish_every.as_millis())
+                    .unwrap_or(u64::MAX),
+            },
+        )
+        .map_err(|error| error.to_string())?;
+        Self::with_shared(Arc::new(Shared::new(engine)), Clock::start(), options)
+    }
+
+    /// A node serving `shared`'s engine, read on `clock`, its DDS participant joined to the
+    /// domain: one door of a process whose other doors (`cooperation-server`'s rosbridge and
+    /// panel) serve the same engine on the same clock. The engine's options are its own:
+    /// `options.publish_every` and `options.scene_quota` are not read.
+    ///
+    /// # Errors
+    /// What DDS could not create.
+    pub fn with_shared(
+        shared: Arc<Shared>,
+        clock: Clock,
+        options: Options,
+    ) -> Result<Self, String> {
         let mut builder = DomainParticipantBuilder::new(options.domain);
         if !options.interfaces.is_empty() {
             builder = builder.with_only_networks(options.interfaces.iter().copied());
@@ -286,8 +311,9 @@ impl Node {
             .write(Raw(sample), None)
             .map_err(|error| format!("{}: {error}", graph::TOPIC))?;
         Ok(Self {
-            shared: Shared::new(Host::new(state, rtc)),
-            clock: Clock::start(),
+            shared,
+            clock,
+            sent: 0,
             options,
             poll,
             servers,
@@ -295,14 +321,13 @@ impl Node {
             steering,
             _graph: graph,
             pending: Vec::new(),
-            next_publication: Instant::now(),
             _participant: participant,
         })
     }
 
-    /// The core and its RTC interfaces, behind the node's one lock.
+    /// The engine, behind the process's one lock.
     #[must_use]
-    pub const fn shared(&self) -> &Shared {
+    pub const fn shared(&self) -> &Arc<Shared> {
         &self.shared
     }
 
@@ -313,13 +338,17 @@ impl Node {
     pub fn run(&mut self, stop: &AtomicBool) -> Result<(), String> {
         let mut events = Events::with_capacity(64);
         while !stop.load(Ordering::Relaxed) {
-            let now = Instant::now();
+            let now = self.clock.now();
+            let until_publication = Duration::from_millis(
+                self.shared
+                    .update(|engine| engine.until_publication_ms(now)),
+            );
             let timeout = if self.pending.is_empty() {
                 STOP_POLL
             } else {
                 REPLY_POLL
             }
-            .min(self.next_publication.saturating_duration_since(now));
+            .min(until_publication);
             match self.poll.poll(&mut events, Some(timeout)) {
                 Ok(()) => {}
                 Err(error) if error.kind() == std::io::ErrorKind::Interrupted => {}
@@ -332,7 +361,8 @@ impl Node {
 
     /// One turn: the matches, the requests, the replies due, the clock and the publications.
     fn step(&mut self) {
-        let mut shown = self.catch_up();
+        let now = self.clock.now();
+        self.shared.update(|engine| engine.handle_timeout(now));
         for server in &mut self.servers {
             while let Some(status) = server.replies.try_recv_status() {
                 if let DataWriterStatus::PublicationMatched {
@@ -348,42 +378,26 @@ impl Node {
             }
         }
         for index in 0..self.servers.len() {
-            shown |= self.serve(index);
+            self.serve(index);
         }
         self.flush();
-        if shown || Instant::now() >= self.next_publication {
-            self.publish();
-        }
+        self.publish();
     }
 
-    /// Tells the core the time; whether scenes expired.
-    fn catch_up(&self) -> bool {
-        let now_ms = self.clock.elapsed_ms();
-        self.shared.update(|host| match host.advance_to(now_ms) {
-            Ok(transition) => transition.is_some_and(|t| !t.retired.is_empty()),
-            Err(error) => {
-                tracing::error!(%error, "the core refused a tick");
-                false
-            }
-        })
-    }
-
-    /// Answers every request waiting at server `index`; whether one changed what the factors
-    /// show.
-    fn serve(&mut self, index: usize) -> bool {
-        let mut shown = false;
+    /// Answers every request waiting at server `index`.
+    fn serve(&mut self, index: usize) {
         loop {
             let Some(server) = self.servers.get_mut(index) else {
-                return shown;
+                return;
             };
             let endpoint = server.endpoint;
             let sample = match server.requests.take_next_sample() {
                 Ok(Some(sample)) => sample,
-                Ok(None) => return shown,
+                Ok(None) => return,
                 Err(error) => {
                     // Tried again on the next turn; nothing is answered from a failed read.
                     tracing::warn!(service = endpoint.name(), %error, "requests not read");
-                    return shown;
+                    return;
                 }
             };
             let client = participant(sample.sample_info().writer_guid());
@@ -395,18 +409,15 @@ impl Node {
                     continue;
                 }
             };
-            if let Incoming::Malformed(_, error) = &incoming {
+            if let Request::Malformed(_, error) = &incoming {
                 tracing::warn!(service = endpoint.name(), %error, "a malformed request refused");
             }
-            let stamp = self.clock.stamp();
-            let answered = self
-                .shared
-                .update(|host| dds::answer(host, incoming, stamp));
-            shown |= answered.shown;
-            if !answered.outgoing.success() {
+            let now = self.clock.now();
+            let handled = self.shared.update(|engine| engine.handle(incoming, now));
+            if !handled.reply.success() {
                 tracing::debug!(service = endpoint.name(), "a request refused");
             }
-            match answered.outgoing.to_cdr() {
+            match dds::to_cdr(&handled.reply) {
                 Ok(reply) => self.pending.push(Pending {
                     server: index,
                     client,
@@ -449,15 +460,16 @@ impl Node {
         });
     }
 
-    /// Publishes both factor arrays as the core is now: read under the lock, written outside.
+    /// Publishes both factor arrays if the engine says a publication is due, or another door
+    /// of the process polled one these topics have not had: taken under the lock, written
+    /// outside.
     fn publish(&mut self) {
-        let stamp = self.clock.stamp();
-        let (velocity, steering) = self.shared.read(|host| {
-            (
-                wire::velocity_factors(host.state(), stamp),
-                wire::steering_factors(host.state(), stamp),
-            )
-        });
+        let now = self.clock.now();
+        let Some((number, publication)) = self.shared.publication(now, self.sent) else {
+            return;
+        };
+        self.sent = number;
+        let (velocity, steering) = (&publication.velocity, &publication.steering);
         for (writer, sample, name) in [
             (
                 &self.velocity,
@@ -481,6 +493,5 @@ impl Node {
                 tracing::error!(topic = name, %error, "a publication not written");
             }
         }
-        self.next_publication = Instant::now() + self.options.publish_every;
     }
 }

@@ -2,8 +2,8 @@
 //! operator panel in a browser.
 //!
 //! One port serves a WebSocket for rosbridge clients (operators and planning modules) and,
-//! over plain HTTP, the operator panel. The verified core and its RTC interfaces sit behind
-//! one lock ([`cooperation_ros::Shared`]) in a [`Node`]; the node's clock
+//! over plain HTTP, the operator panel. The service engine ([`cooperation_ros::engine`]) sits
+//! behind one lock ([`cooperation_ros::Shared`]) in a [`Node`]; the node's clock
 //! ([`cooperation_ros::clock`]) is the only place time is read. `docs/server.md` describes the
 //! protocol, the planning modules' service and the limits.
 
@@ -22,7 +22,7 @@ pub mod node;
 mod panel;
 pub mod rosapi;
 pub mod rosbridge;
-pub mod scenes;
+pub use cooperation_ros::engine::scenes;
 pub mod sync;
 
 use std::net::SocketAddr;
@@ -48,7 +48,8 @@ pub use node::{Node, Topic};
 /// How the node runs.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub struct Options {
-    /// The interval between periodic publications of the factors.
+    /// The interval between periodic publications of the factors: the engine's
+    /// ([`cooperation_ros::engine::Options::publish_every_ms`]), set when the node is served.
     pub publish_every: Duration,
     /// The interval between ticks of the core's clock.
     pub tick_every: Duration,
@@ -69,7 +70,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Self {
-            publish_every: Duration::from_millis(200),
+            publish_every: Duration::from_millis(cooperation_ros::engine::PUBLISH_EVERY_MS),
             tick_every: Duration::from_millis(100),
             max_clients: 256,
             credentials: None,
@@ -148,7 +149,10 @@ pub async fn serve(
             problem,
         ));
     }
-    let mut publisher = tokio::spawn(publish(Arc::clone(&node), options.publish_every));
+    let every_ms = u64::try_from(options.publish_every.as_millis()).unwrap_or(u64::MAX);
+    node.shared()
+        .update(|engine| engine.set_publish_every_ms(every_ms));
+    let mut publisher = tokio::spawn(publish(Arc::clone(&node)));
     let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
     let places = options
         .credentials
@@ -298,12 +302,11 @@ fn admit(
 }
 
 /// Publishes both topics periodically, and soon after a change is announced.
-async fn publish(node: Arc<Node>, every: Duration) {
-    let mut interval = tokio::time::interval(every);
-    interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+async fn publish(node: Arc<Node>) {
     loop {
+        let wait = node.until_publication();
         tokio::select! {
-            _ = interval.tick() => {}
+            () = tokio::time::sleep(wait) => {}
             () = node.publish_asked() => {}
         }
         blocking(&node, Node::publish).await;

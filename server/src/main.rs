@@ -23,8 +23,9 @@ struct Args {
     /// repository's config/cooperation.param.yaml, built into the node).
     #[arg(long)]
     settings: Option<PathBuf>,
-    /// Periodic publications of the factors per second (they are also published on change).
-    #[arg(long, default_value_t = 5.0)]
+    /// Periodic publications of the factors per second (they are also published on change);
+    /// the engine's default interval unless given.
+    #[arg(long, default_value_t = cooperation_ros::engine::PUBLICATION_RATE_HZ)]
     rate: f64,
     /// At most this many clients at once, when the node has no credentials.
     #[arg(long, default_value_t = 256)]
@@ -50,6 +51,17 @@ struct Args {
     /// repeat for more. A request naming any other host is refused (DNS rebinding).
     #[arg(long = "allow-host", value_name = "NAME")]
     allow_hosts: Vec<String>,
+    /// Serve the same core over DDS too, as `cooperation-ros2` does, on this ROS 2 domain: an
+    /// operator's panel and ROS 2 clients then see and change the same scenes.
+    #[arg(long, value_name = "ID")]
+    dds_domain: Option<u16>,
+    /// With `--dds-domain`: a local address DDS may use; repeat for more (all by default).
+    #[arg(
+        long = "dds-interface",
+        value_name = "ADDRESS",
+        requires = "dds_domain"
+    )]
+    dds_interfaces: Vec<std::net::IpAddr>,
 }
 
 /// `--listen`'s address: an IP address and port, or a name and port, resolved.
@@ -141,11 +153,53 @@ async fn run(args: Args) -> Result<(), String> {
             None => "any client may act as the operator or as any planning module",
         }
     );
+    let node = Arc::new(node);
+    let dds = match args.dds_domain {
+        Some(domain) => Some(dds_door(&node, domain, args.dds_interfaces)?),
+        None => None,
+    };
     let shutdown = async {
         let _ = tokio::signal::ctrl_c().await;
         tracing::info!("shutting down");
     };
-    cooperation_server::serve(listener, Arc::new(node), options, shutdown)
+    let served = cooperation_server::serve(listener, node, options, shutdown)
         .await
-        .map_err(|error| error.to_string())
+        .map_err(|error| error.to_string());
+    let stopped = dds.map_or(Ok(()), |(stop, door)| {
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        door.join()
+            .map_err(|_| "the DDS door's thread panicked".to_owned())
+            .and_then(|ran| ran)
+    });
+    served.and(stopped)
 }
+
+/// The DDS door: `cooperation-ros2`'s node on `node`'s engine and clock, polled by a thread of
+/// its own until the flag is set.
+fn dds_door(
+    node: &cooperation_server::Node,
+    domain: u16,
+    interfaces: Vec<std::net::IpAddr>,
+) -> Result<DdsDoor, String> {
+    let options = cooperation_ros2::Options {
+        domain,
+        interfaces,
+        ..cooperation_ros2::Options::default()
+    };
+    let mut door =
+        cooperation_ros2::Node::with_shared(Arc::clone(node.shared()), *node.clock(), options)?;
+    tracing::info!("serving the same core on DDS domain {domain}");
+    let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    let thread = std::thread::Builder::new()
+        .name("dds".to_owned())
+        .spawn(move || door.run(&flag))
+        .map_err(|error| format!("the DDS door's thread: {error}"))?;
+    Ok((stop, thread))
+}
+
+/// A running DDS door: its stop flag and its thread.
+type DdsDoor = (
+    Arc<std::sync::atomic::AtomicBool>,
+    std::thread::JoinHandle<Result<(), String>>,
+);

@@ -1,25 +1,26 @@
-//! The node: the verified core with its RTC interfaces behind one lock
-//! ([`cooperation_ros::Shared`]), the clock that ticks it, and the two factor streams.
+//! The node: the service engine ([`cooperation_ros::engine`]) behind one lock
+//! ([`cooperation_ros::Shared`]), the clock it is told the time by, and the streams.
 //!
 //! Every service call, module sync and tick is one short critical section on that lock, and
-//! nothing else is locked: the streams are read under it, serialized outside it, once per
-//! publication, and handed to every subscriber as the same bytes. Each publication carries the
-//! revision of the state it shows (changes are counted under the lock), so a stream never goes
-//! back to an older state, whatever order publications finish in, and a caller whose call
-//! changed the state can wait for the publication that shows it.
+//! nothing else is locked: the engine decides when a publication is due and hands out its
+//! messages under the lock; they are serialized outside it, once per publication, and handed to
+//! every subscriber as the same bytes. Each publication carries the revision of the state it
+//! shows, so a stream never goes back to an older state, whatever order publications finish in,
+//! and a caller whose call changed what the streams show can wait for the publication that
+//! shows it.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 use axum::extract::ws::Utf8Bytes;
-use cooperation::{Config, ConfigError, State};
-use cooperation_ros::rtc::Rtc;
-use cooperation_ros::wire::{self, Request, Response};
-use cooperation_ros::{Host, Shared};
+use cooperation::{Config, ConfigError};
+use cooperation_ros::engine::{self, Engine, Reply, Request};
+use cooperation_ros::wire;
+use cooperation_ros::Shared;
 use serde::Serialize;
 use tokio::sync::{watch, Notify};
 
 use crate::scenes;
-use crate::sync::{self, SyncRequest, SyncResponse};
 use cooperation_ros::clock::Clock;
 
 /// The topics the node publishes.
@@ -82,12 +83,11 @@ pub struct Publication {
 /// What the node serves, and the core it serves it from.
 #[derive(Debug)]
 pub struct Node {
-    /// The one lock: the core, the RTC interfaces' routing, and the time the core was told.
-    shared: Shared,
+    /// The one lock: the engine, shared with the process's other doors.
+    shared: Arc<Shared>,
     clock: Clock,
-    /// Counts the changes made to the core, from 1. Written and read only with the lock held,
-    /// so its value, read under the lock, is the revision of the state the lock guards.
-    revision: AtomicU64,
+    /// How many of the engine's publications the streams have had.
+    sent: AtomicU64,
     /// Each topic's newest publication, in [`Topic::ALL`]'s order.
     topics: [watch::Sender<Publication>; 3],
     /// Woken by a change that should be published soon.
@@ -128,36 +128,56 @@ fn send_newer(topic: &watch::Sender<Publication>, publication: Publication) {
 pub use cooperation_ros::rtc::SCENE_QUOTA;
 
 impl Node {
-    /// A node over a new core with `config`, and the standard RTC interfaces, each holding at
-    /// most [`SCENE_QUOTA`] live scenes.
+    /// A node over a new core with `config`, and the engine's default options
+    /// ([`engine::Options`]).
     ///
     /// # Errors
     /// The core's refusal of the configuration.
     pub fn new(config: Config) -> Result<Self, ConfigError> {
-        Self::with_scene_quota(config, SCENE_QUOTA)
+        Self::with_options(config, engine::Options::default())
     }
 
-    /// As [`new`](Self::new), each RTC interface holding at most `quota` live scenes
-    /// ([`Rtc::with_scene_quota`]).
+    /// As [`new`](Self::new), each RTC interface holding at most `quota` live scenes.
     ///
     /// # Errors
     /// The core's refusal of the configuration.
     pub fn with_scene_quota(config: Config, quota: usize) -> Result<Self, ConfigError> {
-        let state = State::new(config)?;
+        Self::with_options(
+            config,
+            engine::Options {
+                scene_quota: quota,
+                ..engine::Options::default()
+            },
+        )
+    }
+
+    /// A node over a new engine with `config` and `options`.
+    ///
+    /// # Errors
+    /// The core's refusal of the configuration.
+    pub fn with_options(config: Config, options: engine::Options) -> Result<Self, ConfigError> {
+        let shared = Arc::new(Shared::new(Engine::new(config, options)?));
+        Ok(Self::with_shared(shared, Clock::start()))
+    }
+
+    /// A node serving `shared`'s engine, read on `clock`: one door of a process whose other
+    /// doors (`cooperation-ros2`'s DDS node) serve the same engine on the same clock.
+    #[must_use]
+    pub fn with_shared(shared: Arc<Shared>, clock: Clock) -> Self {
         let node = Self {
-            shared: Shared::new(Host::new(state, Rtc::standard().with_scene_quota(quota))),
-            clock: Clock::start(),
-            revision: AtomicU64::new(0),
+            shared,
+            clock,
+            sent: AtomicU64::new(0),
             topics: core::array::from_fn(|_| watch::channel(Publication::default()).0),
             changed: Notify::new(),
         };
         node.publish();
-        Ok(node)
+        node
     }
 
-    /// The core and its RTC interfaces, behind the node's one lock.
+    /// The engine, behind the process's one lock.
     #[must_use]
-    pub const fn shared(&self) -> &Shared {
+    pub const fn shared(&self) -> &Arc<Shared> {
         &self.shared
     }
 
@@ -179,31 +199,35 @@ impl Node {
         &self.topics[topic.index()]
     }
 
-    /// Counts a change, with the lock held: the state's new revision.
-    fn count_change(&self) -> u64 {
-        self.revision.fetch_add(1, Ordering::SeqCst) + 1
-    }
-
-    /// Reads every topic from the core as it is now and publishes them: read under the lock,
+    /// Publishes every topic if the engine says a publication is due now, or another door of
+    /// the process polled one these streams have not had: its messages taken under the lock,
     /// serialized outside it.
     pub fn publish(&self) {
-        let stamp = self.clock.stamp();
-        let (revision, velocity, steering, scenes) = self.shared.read(|host| {
-            (
-                self.revision.load(Ordering::SeqCst),
-                wire::velocity_factors(host.state(), stamp),
-                wire::steering_factors(host.state(), stamp),
-                scenes::scene_array(host.state(), stamp),
-            )
-        });
+        let now = self.clock.now();
+        let sent = self.sent.load(Ordering::SeqCst);
+        let Some((number, publication)) = self.shared.publication(now, sent) else {
+            return;
+        };
+        self.sent.fetch_max(number, Ordering::SeqCst);
+        let revision = publication.revision;
         let frames = [
-            publish_frame(Topic::Velocity, &velocity),
-            publish_frame(Topic::Steering, &steering),
-            publish_frame(Topic::Scenes, &scenes),
+            publish_frame(Topic::Velocity, &publication.velocity),
+            publish_frame(Topic::Steering, &publication.steering),
+            publish_frame(Topic::Scenes, &publication.scenes),
         ];
         for (topic, frame) in Topic::ALL.into_iter().zip(frames) {
             send_newer(self.sender(topic), Publication { revision, frame });
         }
+    }
+
+    /// How long until the engine's next periodic publication.
+    #[must_use]
+    pub fn until_publication(&self) -> std::time::Duration {
+        let now = self.clock.now();
+        let ms = self
+            .shared
+            .update(|engine| engine.until_publication_ms(now));
+        std::time::Duration::from_millis(ms)
     }
 
     /// Asks the publishing task to publish soon; several asks before it runs make one
@@ -230,66 +254,27 @@ impl Node {
         }
     }
 
-    /// An AD API service call, already read: the typed response, and the revision of the
-    /// state it made if it changed the core (wait for [`published`](Self::published) before
-    /// answering, so that the caller's next publication shows the change). Takes the lock: call
-    /// it where blocking is allowed.
+    /// A request, already read ([`Endpoint::read_json`](cooperation_ros::engine::Endpoint::read_json)), answered by the engine at the node's time: the
+    /// reply, and the revision of the state it made if it changed what the streams show (wait
+    /// for [`published`](Self::published) before answering, so that the caller's next
+    /// publication shows the change). Takes the lock: call it where blocking is allowed.
     #[must_use]
-    pub fn call(&self, request: &Request) -> (Response, Option<u64>) {
-        self.shared.update(|host| {
-            let answer = host.answer(request);
-            let revision = answer.changed.then(|| self.count_change());
-            (answer.response, revision)
-        })
-    }
-
-    /// A planning module's sync (`docs/server.md`), already read. The core's time is brought
-    /// up to now first, so a scene reported here starts its time to live now, not at the last
-    /// periodic tick. Takes the lock: call it where blocking is allowed.
-    #[must_use]
-    pub fn sync(&self, request: &SyncRequest) -> SyncResponse {
-        let stamp = self.clock.stamp();
-        let now_ms = self.clock.elapsed_ms();
-        let (response, shown) = self.shared.update(|host| {
-            let expired = catch_up(host, now_ms);
-            let (response, effect) = sync::answer(host, request, stamp);
-            if effect.changed || expired {
-                self.count_change();
-            }
-            (response, effect.shown || expired)
-        });
-        // A report that changed nothing the streams show (the same status again) waits for
-        // the periodic publication.
-        if shown {
+    pub fn handle(&self, request: Request) -> (Reply, Option<u64>) {
+        let now = self.clock.now();
+        let handled = self.shared.update(|engine| engine.handle(request, now));
+        let shown = handled.change.revision.filter(|_| handled.change.publish);
+        if shown.is_some() {
             self.publish_soon();
         }
-        response
+        (handled.reply, shown)
     }
 
-    /// Tells the core how much monotonic time passed since it was last told; publishes soon if
-    /// scenes expired.
+    /// Tells the engine the time; publishes soon if scenes expired.
     pub fn tick(&self) {
-        let now_ms = self.clock.elapsed_ms();
-        let expired = self.shared.update(|host| {
-            let expired = catch_up(host, now_ms);
-            if expired {
-                self.count_change();
-            }
-            expired
-        });
-        if expired {
+        let now = self.clock.now();
+        let change = self.shared.update(|engine| engine.handle_timeout(now));
+        if change.publish {
             self.publish_soon();
-        }
-    }
-}
-
-/// The core's `Tick` up to `now_ms` on the node's monotonic clock; whether scenes expired.
-fn catch_up(host: &mut Host, now_ms: u64) -> bool {
-    match host.advance_to(now_ms) {
-        Ok(transition) => transition.is_some_and(|t| !t.retired.is_empty()),
-        Err(error) => {
-            tracing::error!(%error, "the core refused a tick");
-            false
         }
     }
 }

@@ -3,12 +3,11 @@
 //! `get_service_type`, `get_topics_for_type`, `get_services_for_type` and `get_nodes` call
 //! these. Every other `rosapi` service is refused as a service the node does not have.
 
-use cooperation_ros::wire::Service;
+use cooperation_ros::engine::Endpoint;
 use serde::Deserialize;
 use serde_json::{json, Value};
 
 use crate::node::Topic;
-use crate::sync;
 
 /// The services of `rosapi` the node answers.
 pub const SERVICES: [&str; 7] = [
@@ -59,10 +58,9 @@ fn topics() -> Vec<(&'static str, &'static str)> {
 
 /// The node's services (its own and `rosapi`'s) and their types.
 fn services() -> Vec<(&'static str, String)> {
-    Service::ALL
+    Endpoint::ALL
         .iter()
-        .map(|service| (service.name(), service.type_name().to_owned()))
-        .chain(std::iter::once((sync::NAME, sync::TYPE.to_owned())))
+        .map(|endpoint| (endpoint.name(), endpoint.ros_type().to_owned()))
         .chain(
             SERVICES
                 .iter()

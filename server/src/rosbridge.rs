@@ -10,13 +10,14 @@
 
 use std::time::Duration;
 
-use cooperation_ros::wire::Service;
+use cooperation_ros::engine::{Endpoint, Request};
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
 use crate::auth::Grant;
 use crate::node::{Node, Topic};
-use crate::{rosapi, sync};
+use crate::rosapi;
+use cooperation_ros::sync;
 
 /// What the connection does after a frame.
 #[derive(Clone, PartialEq, Eq, Debug)]
@@ -118,9 +119,6 @@ fn status(level: &'static str, msg: &str, id: Option<&RawValue>) -> String {
     };
     serde_json::to_string(&status).unwrap_or_default()
 }
-
-/// The services the node answers, with their types.
-const SYNC: (&str, &str) = (sync::NAME, sync::TYPE);
 
 /// Whether a type a client names is `expected`, in ROS 2 form (`pkg/msg/Name`) or ROS 1 form
 /// (`pkg/Name`).
@@ -304,24 +302,19 @@ fn call_service(node: &Node, envelope: &Envelope<'_>, grant: &Grant) -> (Vec<Act
             None => failed(&format!("no service {name:?}")),
         };
     }
-    let ad_api = Service::from_name(name);
-    let type_name = match ad_api {
-        Some(service) => service.type_name(),
-        None if name == SYNC.0 => SYNC.1,
-        None => {
-            let known: Vec<&str> = Service::ALL.iter().map(|s| s.name()).collect();
-            return failed(&format!(
-                "no service {name:?}: this node answers {}, {:?} for planning modules, and {}",
-                known.join(", "),
-                SYNC.0,
-                rosapi::SERVICES.join(", ")
-            ));
-        }
+    let Some(endpoint) = Endpoint::from_name(name) else {
+        let known: Vec<&str> = Endpoint::ALL.iter().map(|e| e.name()).collect();
+        return failed(&format!(
+            "no service {name:?}: this node answers {} (the last for planning modules), and {}",
+            known.join(", "),
+            rosapi::SERVICES.join(", ")
+        ));
     };
     if let Some(given) = envelope.r#type.as_deref() {
-        if !given.is_empty() && !same_type(given, type_name) {
+        if !given.is_empty() && !same_type(given, endpoint.ros_type()) {
             return failed(&format!(
-                "service {name:?} has type {type_name:?}, not {given:?}"
+                "service {name:?} has type {:?}, not {given:?}",
+                endpoint.ros_type()
             ));
         }
     }
@@ -331,28 +324,18 @@ fn call_service(node: &Node, envelope: &Envelope<'_>, grant: &Grant) -> (Vec<Act
     }
     // Each request is read before the core's lock is taken, and its response written once,
     // inside the frame that carries it.
-    match ad_api {
-        Some(service) => match service.read(args) {
-            Ok(request) => {
-                let (response, revision) = node.call(&request);
-                (vec![respond(name, id, &response)], revision)
-            }
-            Err(malformed) => (vec![respond(name, id, &service.refusal(&malformed))], None),
-        },
-        None => {
-            let response = match sync::read(args) {
-                Ok(request) => match grant.may_report(&request.interface) {
-                    Ok(()) => node.sync(&request),
-                    Err(refusal) => {
-                        tracing::warn!("a sync refused: {refusal}");
-                        sync::refused(refusal)
-                    }
-                },
-                Err(message) => sync::refused(message),
-            };
-            (vec![respond(name, id, &response)], None)
+    let request = endpoint.read_json(args);
+    if let Request::Sync(sync) = &request {
+        if let Err(refusal) = grant.may_report(&sync.interface) {
+            tracing::warn!("a sync refused: {refusal}");
+            return (vec![respond(name, id, &sync::refused(refusal))], None);
         }
     }
+    let (reply, revision) = node.handle(request);
+    // An operator's call is answered once the streams show its change; a module's sync at once
+    // (its answer carries what it needs).
+    let revision = revision.filter(|_| endpoint != Endpoint::Sync);
+    (vec![respond(name, id, &reply)], revision)
 }
 
 /// A successful `service_response` carrying `values`.

@@ -98,7 +98,7 @@ fn the_sync_service_names_what_the_node_reads_and_answers() {
         })
         .collect();
     let args = Value::Object(object).to_string();
-    sync::read(args.as_bytes()).expect("the definition's request reads");
+    sync::read_json(args.as_bytes()).expect("the definition's request reads");
     // The sequence message's fields are those a stated sequence reads.
     assert_eq!(
         names(&definition("msg/StatedSequence.msg")),

@@ -39,6 +39,7 @@ from ros2_peer.checks_requests import (  # noqa: E402
     check_set_commands,
     check_sync_refusals,
 )
+from ros2_peer.checks_one_core import check_one_core  # noqa: E402
 from ros2_peer.checks_start import (  # noqa: E402
     Scenes,
     check_get_policies,
@@ -121,6 +122,21 @@ def interop(domain, distro):
                                           f"{stream.errors[-1]}"] if stream.errors else [])
     if budget_left() <= 0:
         checks.record("the run ended within its budget", f"over {BUDGET:.0f} s")
+    return checks
+
+
+def one_core(domain, address):
+    """`cooperation-server --dds-domain`: its DDS door and its rosbridge door on one core."""
+    checks = Checks()
+    peer = Peer(domain, "humble")
+    missing = peer.wait_matched(DISCOVERY_TIMEOUT)
+    checks.record(
+        f"one core: every DDS service and topic matched the node's within "
+        f"{DISCOVERY_TIMEOUT:.0f} s", [f"not matched: {', '.join(missing)}"] if missing else [])
+    if missing:
+        return checks
+    host, port = address.rsplit(":", 1)
+    check_one_core(peer, checks, host, int(port))
     return checks
 
 
@@ -215,8 +231,16 @@ def main():
                         help="the node's --distro: the size of a gid (24 bytes, or 16 for jazzy)")
     parser.add_argument("--self-test", action="store_true",
                         help="check the wrapper types' bytes only, with no node")
+    parser.add_argument("--one-core", metavar="HOST:PORT",
+                        help="check cooperation-server --dds-domain instead: its DDS door here, "
+                             "its rosbridge door at HOST:PORT, one core")
     args = parser.parse_args()
-    checks = self_test() if args.self_test else interop(args.domain, args.distro)
+    if args.self_test:
+        checks = self_test()
+    elif args.one_core:
+        checks = one_core(args.domain, args.one_core)
+    else:
+        checks = interop(args.domain, args.distro)
     print(f"ros2 interop peer: {checks.passed} passed, {checks.failed} failed", flush=True)
     sys.exit(1 if checks.failed else 0)
 

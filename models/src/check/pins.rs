@@ -209,8 +209,18 @@ pub const RTC_QUOTA: Pin = Pin {
     generated: None,
 };
 
+/// The engine model: a host driving the service engine, 2 identifiers, its clock to 3 ms.
+pub const ENGINE_2: Pin = Pin {
+    test: "models/tests/engine_model.rs::the_engine_meets_its_rules",
+    model: "engine",
+    bounds: "2 ids, 3 ms",
+    search: "BFS",
+    unique: 324_478,
+    generated: None,
+};
+
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 18] = [
+pub const ALL: [Pin; 19] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -229,6 +239,7 @@ pub const ALL: [Pin; 18] = [
     RTC_AVOIDANCE,
     RTC_TWO_AVOIDANCES,
     RTC_QUOTA,
+    ENGINE_2,
 ];
 
 /// The pin of the configuration the reach table names so, if one is pinned.

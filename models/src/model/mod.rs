@@ -5,6 +5,8 @@
 //! - [`network`]: the planner and operators with messages delayed, reordered, duplicated and
 //!   lost between them.
 //! - [`rtc`]: the RTC adapter (`cooperation_ros::rtc`) over the core, call by call.
+//! - [`engine`]: the service engine (`cooperation_ros::engine`) as a host drives it, its clock
+//!   running between calls.
 //! - [`trivial`]: a model with no logic, for the checker's raw throughput.
 //! - [`spec`]: the spec as the properties state it, its tables read from its text and its rules
 //!   written from its words: an oracle compared with, never used to move a state.
@@ -13,6 +15,7 @@
 //! - [`ids`] and [`describe`]: what every model shares: identifiers, errors, inputs in words.
 
 pub mod describe;
+pub mod engine;
 pub mod fault;
 pub mod ids;
 pub mod network;

@@ -101,8 +101,8 @@ pub use msg::{
     SteeringFactor, SteeringFactorArray, Uuid, VelocityFactor, VelocityFactorArray,
 };
 pub use service::{
-    from_json, get_policies, set_commands, set_policies, steering_factors, steering_factors_with,
-    to_json, velocity_factors, velocity_factors_with, Answer, Request, Response, Service, FRAME_ID,
-    MAX_REQUEST_BYTES, STEERING_FACTORS, STEERING_FACTORS_TYPE, VELOCITY_FACTORS,
-    VELOCITY_FACTORS_TYPE,
+    check_request_len, from_json, get_policies, set_commands, set_policies, steering_factors,
+    steering_factors_with, to_json, velocity_factors, velocity_factors_with, Answer, Request,
+    Response, Service, FRAME_ID, MAX_REQUEST_BYTES, STEERING_FACTORS, STEERING_FACTORS_TYPE,
+    VELOCITY_FACTORS, VELOCITY_FACTORS_TYPE,
 };

@@ -170,6 +170,22 @@ pub fn steering_factors(state: &State, stamp: Time) -> SteeringFactorArray {
 /// (pretty-printed, UUIDs as lists of numbers).
 pub const MAX_REQUEST_BYTES: usize = 1 << 20;
 
+/// Refuses a request of `len` bytes if it is longer than [`MAX_REQUEST_BYTES`]: the one check
+/// of every door (JSON and CDR, the AD API and the modules' sync), made before a request is read.
+///
+/// # Errors
+/// [`Malformed::TooLarge`].
+pub fn check_request_len(len: usize) -> Result<(), Malformed> {
+    if len > MAX_REQUEST_BYTES {
+        return Err(Malformed::TooLarge {
+            path: FieldPath::root(),
+            len,
+            max: MAX_REQUEST_BYTES,
+        });
+    }
+    Ok(())
+}
+
 /// Reads a message from JSON as rosbridge writes it, of any length (a request on its way to
 /// a service is first held to [`MAX_REQUEST_BYTES`] by [`Service::read`]). The reader
 /// never builds more than the message itself: memory grows with the input's length only, on
@@ -368,13 +384,7 @@ impl Service {
     /// [`Malformed::TooLarge`] for a request longer than [`MAX_REQUEST_BYTES`], refused unread;
     /// otherwise as [`from_json`], naming the field that does not decode.
     pub fn read(self, json: &[u8]) -> Result<Request, Malformed> {
-        if json.len() > MAX_REQUEST_BYTES {
-            return Err(Malformed::TooLarge {
-                path: FieldPath::root(),
-                len: json.len(),
-                max: MAX_REQUEST_BYTES,
-            });
-        }
+        check_request_len(json.len())?;
         Ok(match self {
             Self::SetCommands => Request::SetCommands(from_json(json)?),
             Self::SetPolicies => Request::SetPolicies(from_json(json)?),

@@ -48,8 +48,8 @@ impl InProcess {
     }
 }
 
-pub(super) const CALL: &str = "Node::call(SetCommands): JSON, core, response, publication";
-pub(super) const JSON_SERVICE: &str = "JSON service alone (read, answer under the lock, write)";
+pub(super) const CALL: &str = "Node::handle(SetCommands): JSON, engine, response, publication";
+pub(super) const JSON_SERVICE: &str = "JSON service alone (read, engine under the lock, write)";
 pub(super) const CORE_COMMAND: &str = "core alone (one SetCommands input under the lock)";
 pub(super) const PUBLISH: &str = "Node::publish: both topics read, converted, serialized";
 pub(super) const CONVERT: &str = "core query + conversion to AD API messages (under the lock)";
@@ -83,27 +83,27 @@ pub(super) fn in_process(node: &Node) -> InProcess {
     // What a connection does for a call: read the request, answer it under the lock, write
     // the response, and publish the change.
     let mut call = |i: usize| {
-        if let Ok(request) = Service::SetCommands.read(&args[i % args.len()]) {
-            let (response, revision) = node.call(&request);
-            black_box(wire::to_json(&response));
-            if revision.is_some() {
-                node.publish();
-            }
+        let request = Endpoint::Ad(Service::SetCommands).read_json(&args[i % args.len()]);
+        let (reply, revision) = node.handle(request);
+        black_box(wire::to_json(&reply));
+        if revision.is_some() {
+            node.publish();
         }
     };
     let mut json_service = |i: usize| {
-        if let Ok(request) = Service::SetCommands.read(&args[i % args.len()]) {
-            let answer = node.shared().update(|host| host.answer(&request));
-            black_box(wire::to_json(&answer.response));
-        }
+        let request = Endpoint::Ad(Service::SetCommands).read_json(&args[i % args.len()]);
+        let now = node.clock().now();
+        let handled = node.shared().update(|engine| engine.handle(request, now));
+        black_box(wire::to_json(&handled.reply));
     };
+    // The core alone, behind a lock of its own: a copy of the node's.
+    let core_alone = std::sync::Mutex::new(node.shared().read(|engine| engine.state().clone()));
     let mut core = |i: usize| {
         let commands = vec![commands[i % commands.len()]];
-        black_box(
-            node.shared()
-                .update(|host| host.state_mut().apply(&Input::SetCommands { commands })),
-        )
-        .ok();
+        let mut state = core_alone
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        black_box(state.apply(&Input::SetCommands { commands })).ok();
     };
     let mut publish = |_: usize| node.publish();
     let mut convert = |_: usize| {

@@ -29,6 +29,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cooperation::{Command, FactorLists, Input, OperatorDecision, SceneId};
+use cooperation_ros::engine::{Endpoint, Request};
 use cooperation_ros::wire::{self, Service};
 use cooperation_server::{Node, Options, Topic};
 use futures_util::{SinkExt, StreamExt};
@@ -129,7 +130,7 @@ fn command_args(index: usize, decision: u8) -> String {
 /// the core and is published before it is answered (a command that changes nothing is answered
 /// at once, which would measure the transport instead).
 fn decision(pass: usize) -> u8 {
-    if pass % 2 == 0 {
+    if pass.is_multiple_of(2) {
         ACTIVATE
     } else {
         DEACTIVATE
@@ -421,10 +422,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let per_interface = SCENES.div_ceil(INTERFACES.len());
     for (at, interface) in INTERFACES.iter().enumerate() {
         let indices = at * per_interface..((at + 1) * per_interface).min(SCENES);
-        let request = cooperation_server::sync::read(sync_args(interface, indices).as_bytes())?;
-        let response = node.sync(&request);
-        if !response.success {
-            return Err(format!("the scenes of {interface} did not register: {response:?}").into());
+        let request =
+            cooperation_server::sync::read_json(sync_args(interface, indices).as_bytes())?;
+        let (reply, _) = node.handle(Request::Sync(request));
+        if !reply.success() {
+            return Err(format!("the scenes of {interface} did not register: {reply:?}").into());
         }
     }
     let live = node.shared().read(|host| host.state().scene_count());

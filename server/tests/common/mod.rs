@@ -43,9 +43,13 @@ pub async fn serve(options: Options) -> Served {
 /// scenes.
 pub async fn serve_quota(options: Options, quota: usize) -> Served {
     let config = cooperation_ros::settings::parse(SETTINGS).expect("the default settings read");
-    let node = Arc::new(
-        Node::with_scene_quota(config, quota).expect("the default settings are a configuration"),
-    );
+    serve_config(config, options, quota).await
+}
+
+/// Serves a node with `config`, each RTC interface holding at most `quota` live scenes.
+pub async fn serve_config(config: cooperation::Config, options: Options, quota: usize) -> Served {
+    let node =
+        Arc::new(Node::with_scene_quota(config, quota).expect("the settings are a configuration"));
     let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
         .await
         .expect("a loopback port");

@@ -4,9 +4,9 @@
 //! (`[COOP-REQUESTED.1]`), the policy that applies to it, and the time since its owner last
 //! reported it. The operator panel shows them; nothing here is decided by the node.
 
+use crate::wire::{CooperationDecision, CooperationPolicy, Uuid};
+use crate::Time;
 use cooperation::{PolicySetting, State};
-use cooperation_ros::wire::{CooperationDecision, CooperationPolicy, Uuid};
-use cooperation_ros::Time;
 use serde::{Deserialize, Serialize};
 
 /// The topic's name.

@@ -1,0 +1,468 @@
+//! The engine model: the service engine (`cooperation_ros::engine`) as a host drives it, with
+//! the host's clock running between calls.
+//!
+//! `next_state` makes one call of the engine the way a host does ([`EngineAction`]): a module's
+//! sync (a status or a removal), an operator's `set_commands` or `set_policies`, the host's
+//! timeout ([`Engine::handle_timeout`]) and its publication poll
+//! ([`Engine::poll_publication`]), each at the clock's reading; or the clock moves on by one
+//! millisecond with nothing told. Requests are the doors' own types, answered by the engine;
+//! unless an [`EngineFault`] is planted for a sensitivity test, nothing here decides an answer.
+//!
+//! The properties ([`properties`]) are stated from the specification's time rules and the
+//! streams' promise, with an oracle of their own: the time each scene was last reported (a
+//! history annotation), what the last publication carried, and the core's own transition
+//! ([`State::apply`]) for what an operator's call should have answered at its time.
+
+mod properties;
+
+pub use properties::{properties, ANSWER, LIFETIME, PUBLISH, TIME};
+
+use std::hash::{Hash, Hasher};
+
+use cooperation::{
+    Behavior, Command, Config, Input, Limits, Module, OperatorDecision, Policy, PolicySetting,
+    SceneId, State,
+};
+use cooperation_ros::engine::{self, Engine, Now, Reply, Request};
+use cooperation_ros::rtc::{self, CooperateStatus};
+use cooperation_ros::sync::{SyncRequest, SyncStatus};
+use cooperation_ros::{wire, Time};
+use serde::{Deserialize, Serialize};
+use stateright::{Model, Property, Representative};
+
+/// The one module: a lane change, reported through `lane_change_left`.
+const MODULE: Module = Module::new(Behavior::LaneChange);
+/// The RTC interface its scenes are reported through.
+const INTERFACE: &str = "lane_change_left";
+/// Each scene's time to live, in milliseconds.
+pub const TTL_MS: u64 = 1;
+/// The interval of periodic publications, in milliseconds.
+pub const PUBLISH_EVERY_MS: u64 = 2;
+
+/// A deliberately wrong engine, for showing that the properties can fail. Each wraps the
+/// engine's calls the way a bug in it would behave; nothing of it is compiled into the library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum EngineFault {
+    /// An operator's call is answered at the time the core was last told, not the request's
+    /// (the rosbridge node's call before the engine).
+    CallWithoutCatchUp,
+    /// A module's sync is answered at the time the core was last told: its scene's time to live
+    /// starts in the past.
+    ReportWithoutCatchUp,
+    /// A change's publication is taken and never sent: the engine counts it as shown.
+    ChangeUnpublished,
+}
+
+impl EngineFault {
+    /// Every fault.
+    pub const ALL: [Self; 3] = [
+        Self::CallWithoutCatchUp,
+        Self::ReportWithoutCatchUp,
+        Self::ChangeUnpublished,
+    ];
+}
+
+/// The size of the engine model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EngineBounds {
+    /// Scene identifiers, `1..=scenes`.
+    pub scenes: usize,
+    /// The clock's last reading, in milliseconds from 0.
+    pub horizon_ms: u64,
+}
+
+/// An action of the engine model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum EngineAction {
+    /// The clock moves on one millisecond, nothing told.
+    Wait,
+    /// The host's timeout: the engine is told the time.
+    Tick,
+    /// The host polls for a publication and sends what it gets.
+    Publish,
+    /// A module's sync reports the scene (waiting), safe or not.
+    Report(SceneId, bool),
+    /// A module's sync removes the scene.
+    Remove(SceneId),
+    /// An operator's `set_commands` for the scene.
+    Command(SceneId, OperatorDecision),
+    /// An operator's `set_policies` for the module.
+    Policy(Policy),
+}
+
+/// Sticky flags of broken step properties.
+pub mod broken {
+    /// A command applied to a scene whose time to live had passed at the request's time.
+    pub const STALE_COMMAND: u8 = 1;
+    /// An operator's call was answered otherwise than the core's transition at its time.
+    pub const ANSWER: u8 = 2;
+}
+
+/// A state of the engine model.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EngineStep {
+    /// The engine.
+    pub engine: Engine,
+    /// The clock's reading, in milliseconds.
+    pub clock_ms: u64,
+    /// When each identifier's scene was last reported, accepted, until it was removed (history
+    /// annotation).
+    pub reported_ms: Vec<Option<u64>>,
+    /// What the last publication carried ([`content`]); `None` before the first.
+    pub published: Option<Vec<u8>>,
+    /// Sticky flags of broken step properties ([`broken`]).
+    pub broken: u8,
+}
+
+impl Hash for EngineStep {
+    /// Everything but the engine's revision counter, which only labels publications and grows
+    /// with every change: two states that differ in it alone behave alike.
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        let engine = &self.engine;
+        engine.state().hash(state);
+        // Each identifier's route: the model's retired capacity covers every identifier, so the
+        // core forgets none and the routes are exactly these.
+        for n in 1..=4u128 {
+            let id = SceneId::from_u128(n);
+            let owner = engine.host().rtc().owner(engine.state(), id);
+            owner.map(|binding| binding.name.as_str()).hash(state);
+        }
+        engine.host().told_ms().hash(state);
+        engine.until_publication_ms(self.now()).hash(state);
+        engine.publication_due(self.now()).hash(state);
+        self.clock_ms.hash(state);
+        self.reported_ms.hash(state);
+        self.published.hash(state);
+        self.broken.hash(state);
+    }
+}
+
+impl Representative for EngineStep {
+    /// No reduction.
+    fn representative(&self) -> Self {
+        self.clone()
+    }
+}
+
+impl EngineStep {
+    /// The clock's reading as the engine takes it.
+    #[must_use]
+    pub fn now(&self) -> Now {
+        now_at(self.clock_ms)
+    }
+}
+
+/// The reading of `ms`, its stamp that many milliseconds after the epoch.
+#[must_use]
+pub fn now_at(ms: u64) -> Now {
+    let ns = i64::try_from(ms)
+        .unwrap_or(i64::MAX)
+        .saturating_mul(1_000_000);
+    Now::new(
+        ns,
+        Time::new(
+            i32::try_from(ms / 1000).unwrap_or(i32::MAX),
+            u32::try_from((ms % 1000) * 1_000_000).unwrap_or(0),
+        ),
+    )
+}
+
+/// What the streams carry of `state`, short of stamps and ages: the two factor lists and the
+/// scenes, as the doors write them.
+#[must_use]
+pub fn content(state: &State) -> Vec<u8> {
+    let stamp = Time::default();
+    let mut scenes = engine::scenes::scene_array(state, stamp);
+    for scene in &mut scenes.scenes {
+        scene.age_ms = 0;
+    }
+    let mut bytes = wire::to_json(&wire::velocity_factors(state, stamp).factors);
+    bytes.extend(wire::to_json(&wire::steering_factors(state, stamp).factors));
+    bytes.extend(wire::to_json(&scenes.scenes));
+    bytes
+}
+
+/// The engine model.
+#[derive(Clone, Debug)]
+pub struct EngineModel {
+    bounds: EngineBounds,
+    fault: Option<EngineFault>,
+    focus: Option<&'static str>,
+    config: Config,
+    ids: Vec<SceneId>,
+}
+
+impl EngineModel {
+    /// The model at these bounds.
+    ///
+    /// # Errors
+    /// If `scenes` is not 1 to 4.
+    pub fn new(bounds: EngineBounds) -> Result<Self, String> {
+        if !(1..=4).contains(&bounds.scenes) {
+            return Err("scenes must be 1 to 4".to_owned());
+        }
+        let config = Config {
+            policies: [(MODULE, Policy::Required)].into(),
+            limits: Limits {
+                ttl_ms: TTL_MS,
+                max_scenes: bounds.scenes,
+                retired_capacity: bounds.scenes,
+                max_batch: 2,
+            },
+        };
+        let ids = (1..=bounds.scenes as u128)
+            .map(SceneId::from_u128)
+            .collect();
+        Ok(Self {
+            bounds,
+            fault: None,
+            focus: None,
+            config,
+            ids,
+        })
+    }
+
+    /// The same model with `fault` planted.
+    #[must_use]
+    pub const fn with_fault(mut self, fault: EngineFault) -> Self {
+        self.fault = Some(fault);
+        self
+    }
+
+    /// The same model checking only the property named `property` (a search for its
+    /// counterexample stops at the first).
+    #[must_use]
+    pub const fn focus(mut self, property: &'static str) -> Self {
+        self.focus = Some(property);
+        self
+    }
+
+    /// The model's bounds.
+    #[must_use]
+    pub const fn bounds(&self) -> EngineBounds {
+        self.bounds
+    }
+
+    /// The planted fault, if any.
+    #[must_use]
+    pub const fn fault(&self) -> Option<EngineFault> {
+        self.fault
+    }
+
+    /// The configuration the engine's core is built with.
+    #[must_use]
+    pub const fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn position(&self, id: SceneId) -> Option<usize> {
+        self.ids.iter().position(|&known| known == id)
+    }
+
+    /// A request at `now`, through the planted fault if there is one; what the engine answered.
+    fn handle(&self, engine: &mut Engine, request: Request, now: Now) -> Reply {
+        let late = match self.fault {
+            Some(EngineFault::CallWithoutCatchUp) => matches!(request, Request::Ad(_)),
+            Some(EngineFault::ReportWithoutCatchUp) => matches!(request, Request::Sync(_)),
+            _ => false,
+        };
+        let at = if late { engine.told(now.stamp) } else { now };
+        let handled = engine.handle(request, at);
+        if self.fault == Some(EngineFault::ChangeUnpublished) && handled.change.publish {
+            drop(engine.poll_publication(now));
+        }
+        handled.reply
+    }
+}
+
+/// A sync of one status of `id`, waiting, `safe` or not.
+fn report(id: SceneId, safe: bool) -> SyncRequest {
+    let status = CooperateStatus {
+        uuid: id.into(),
+        safe,
+        state: rtc::Lifecycle::new(rtc::Lifecycle::WAITING_FOR_EXECUTION),
+        start_distance: 10.0,
+        finish_distance: 20.0,
+        ..CooperateStatus::default()
+    };
+    SyncRequest {
+        interface: INTERFACE.to_owned(),
+        statuses: vec![SyncStatus::from(&status)],
+        sequences: Vec::new(),
+        removed: Vec::new(),
+    }
+}
+
+/// What the core's own transition answers to `input` at the request's time: the core of
+/// `before` told the time since it was last told, then given `input`. `None` if the core
+/// refuses it; the state it leaves otherwise.
+fn oracle(before: &Engine, clock_ms: u64, input: &Input) -> Option<State> {
+    let mut state = before.state().clone();
+    let elapsed_ms = clock_ms.saturating_sub(before.host().told_ms());
+    if elapsed_ms > 0 {
+        state.apply(&Input::Tick { elapsed_ms }).ok()?;
+    }
+    state.apply(input).ok().map(|_| state)
+}
+
+impl Model for EngineModel {
+    type State = EngineStep;
+    type Action = EngineAction;
+
+    fn init_states(&self) -> Vec<Self::State> {
+        let mut engine = Engine::new(
+            self.config.clone(),
+            engine::Options {
+                scene_quota: 0,
+                publish_every_ms: PUBLISH_EVERY_MS,
+            },
+        )
+        .unwrap_or_else(|_| unreachable_engine());
+        // The host's first reading: the engine's time 0.
+        engine.handle_timeout(now_at(0));
+        vec![EngineStep {
+            engine,
+            clock_ms: 0,
+            reported_ms: vec![None; self.ids.len()],
+            published: None,
+            broken: 0,
+        }]
+    }
+
+    fn actions(&self, state: &Self::State, actions: &mut Vec<Self::Action>) {
+        if state.clock_ms < self.bounds.horizon_ms {
+            actions.push(EngineAction::Wait);
+        }
+        actions.push(EngineAction::Tick);
+        if state.engine.publication_due(state.now()) {
+            actions.push(EngineAction::Publish);
+        }
+        for &id in &self.ids {
+            actions.push(EngineAction::Report(id, false));
+            actions.push(EngineAction::Report(id, true));
+            actions.push(EngineAction::Remove(id));
+            actions.push(EngineAction::Command(id, OperatorDecision::Activate));
+            actions.push(EngineAction::Command(id, OperatorDecision::Deactivate));
+        }
+        actions.push(EngineAction::Policy(Policy::Optional));
+        actions.push(EngineAction::Policy(Policy::Required));
+    }
+
+    fn next_state(&self, last: &Self::State, action: Self::Action) -> Option<Self::State> {
+        let mut next = last.clone();
+        let now = last.now();
+        match action {
+            EngineAction::Wait => next.clock_ms += 1,
+            EngineAction::Tick => {
+                next.engine.handle_timeout(now);
+            }
+            EngineAction::Publish => {
+                next.engine.poll_publication(now)?;
+                next.published = Some(content(next.engine.state()));
+            }
+            EngineAction::Report(id, safe) => {
+                let reply = self.handle(&mut next.engine, Request::Sync(report(id, safe)), now);
+                let Reply::Sync(response) = reply else {
+                    return None;
+                };
+                let accepted = response.results.first().is_some_and(|r| r.success);
+                if let (true, Some(at)) = (accepted, self.position(id)) {
+                    if let Some(slot) = next.reported_ms.get_mut(at) {
+                        *slot = Some(last.clock_ms);
+                    }
+                }
+            }
+            EngineAction::Remove(id) => {
+                let request = SyncRequest {
+                    removed: vec![id.into()],
+                    statuses: Vec::new(),
+                    ..report(id, false)
+                };
+                let reply = self.handle(&mut next.engine, Request::Sync(request), now);
+                let Reply::Sync(response) = reply else {
+                    return None;
+                };
+                if response.success {
+                    if let Some(slot) = self
+                        .position(id)
+                        .and_then(|at| next.reported_ms.get_mut(at))
+                    {
+                        *slot = None;
+                    }
+                }
+            }
+            EngineAction::Command(id, decision) => {
+                let commands = [Command { id, decision }];
+                let request = wire::Request::SetCommands(commands.iter().copied().collect());
+                let input = Input::SetCommands {
+                    commands: commands.to_vec(),
+                };
+                if self.operator_call(last, &mut next, request, &input) {
+                    let age = self
+                        .position(id)
+                        .and_then(|at| last.reported_ms.get(at).copied().flatten())
+                        .map(|reported| last.clock_ms.saturating_sub(reported));
+                    if age.map_or(true, |age| age > self.config.limits.ttl_ms) {
+                        next.broken |= broken::STALE_COMMAND;
+                    }
+                }
+            }
+            EngineAction::Policy(policy) => {
+                let settings = [PolicySetting {
+                    module: MODULE,
+                    policy,
+                }];
+                let request = wire::Request::SetPolicies(settings.iter().copied().collect());
+                let input = Input::SetPolicies {
+                    policies: settings.to_vec(),
+                };
+                self.operator_call(last, &mut next, request, &input);
+            }
+        }
+        Some(next)
+    }
+
+    fn properties(&self) -> Vec<Property<Self>> {
+        let mut all = properties();
+        if let Some(focus) = self.focus {
+            all.retain(|property| property.name == focus);
+        }
+        all
+    }
+}
+
+impl EngineModel {
+    /// An operator's `request` (the core's `input`), made at `last`'s clock reading: answered
+    /// by the engine in `next`, its answer judged against the core's own transition at that
+    /// time. Whether it was answered success.
+    fn operator_call(
+        &self,
+        last: &EngineStep,
+        next: &mut EngineStep,
+        request: wire::Request,
+        input: &Input,
+    ) -> bool {
+        let reply = self.handle(&mut next.engine, Request::Ad(request), last.now());
+        let expected = oracle(&last.engine, last.clock_ms, input);
+        judge(next, &reply, expected.as_ref());
+        reply.success()
+    }
+}
+
+/// Flags an operator's call whose answer or resulting core differs from the core's own
+/// transition at the request's time.
+fn judge(next: &mut EngineStep, reply: &Reply, expected: Option<&State>) {
+    let agrees = match expected {
+        Some(state) => reply.success() && next.engine.state() == state,
+        None => !reply.success(),
+    };
+    if !agrees {
+        next.broken |= broken::ANSWER;
+    }
+}
+
+/// The model's configuration is one the core accepts; were it not, no state could be built.
+#[allow(clippy::panic)]
+fn unreachable_engine() -> Engine {
+    panic!("the engine model's configuration is refused by the core")
+}

@@ -1,0 +1,83 @@
+//! The engine model's properties: the specification's rules for a host (`[COOP-ENGINE-*]`),
+//! each a condition on one state, and witnesses that the checked runs reach what the rules are
+//! about.
+
+use cooperation::Phase;
+use stateright::Property;
+
+use super::{broken, content, EngineModel, EngineStep};
+
+/// `COOP-ENGINE-TIME.1`'s property.
+pub const TIME: &str =
+    "COOP-ENGINE-TIME.1: no command applies to a scene whose time to live had passed at the request's time";
+/// `COOP-ENGINE-TIME.1`'s other property.
+pub const LIFETIME: &str =
+    "COOP-ENGINE-TIME.1: a scene lives its time to live from the time of its last report";
+/// `COOP-ENGINE-PUBLISH.1`'s property.
+pub const PUBLISH: &str = "COOP-ENGINE-PUBLISH.1: whenever no publication is due, the last one shows what the state shows";
+/// `COOP-ENGINE-ANSWER.1`'s property.
+pub const ANSWER: &str = "COOP-ENGINE-ANSWER.1: an operator's call is answered as the core's transition at the request's time answers it";
+
+fn unbroken<const FLAG: u8>(_: &EngineModel, state: &EngineStep) -> bool {
+    state.broken & FLAG == 0
+}
+
+/// Every scene reported and not removed, whose time to live has not passed on the clock since
+/// its last report, is live.
+fn reported_scenes_live(model: &EngineModel, state: &EngineStep) -> bool {
+    let ttl = model.config().limits.ttl_ms;
+    state.reported_ms.iter().enumerate().all(|(at, reported)| {
+        let id = cooperation::SceneId::from_u128(at as u128 + 1);
+        reported.map_or(true, |reported| {
+            state.clock_ms.saturating_sub(reported) > ttl
+        }) || state.engine.state().scene(id).is_some()
+    })
+}
+
+/// When the engine says no publication is due, what the streams last carried is what the core
+/// shows now: every change the streams show is followed by a publication that shows it.
+fn published_shows_state(_: &EngineModel, state: &EngineStep) -> bool {
+    state.engine.publication_due(state.now())
+        || state.published.as_deref() == Some(content(state.engine.state()).as_slice())
+}
+
+/// A scene is live and waiting while its time to live has passed on the clock, the core not yet
+/// told: the time a command could be applied late.
+fn stale_scene_awaits_tick(model: &EngineModel, state: &EngineStep) -> bool {
+    let ttl = model.config().limits.ttl_ms;
+    state.reported_ms.iter().enumerate().any(|(at, reported)| {
+        let id = cooperation::SceneId::from_u128(at as u128 + 1);
+        reported.is_some_and(|reported| state.clock_ms.saturating_sub(reported) > ttl)
+            && state
+                .engine
+                .state()
+                .scene(id)
+                .map(cooperation::Scene::phase)
+                == Some(Phase::Waiting)
+    })
+}
+
+/// An operator's command has applied.
+fn command_applied(_: &EngineModel, state: &EngineStep) -> bool {
+    state
+        .engine
+        .state()
+        .scenes()
+        .any(|(_, scene)| scene.operator_decision() != cooperation::OperatorDecision::Undecided)
+}
+
+/// The properties.
+#[must_use]
+pub fn properties() -> Vec<Property<EngineModel>> {
+    vec![
+        Property::always(TIME, unbroken::<{ broken::STALE_COMMAND }>),
+        Property::always(LIFETIME, reported_scenes_live),
+        Property::always(PUBLISH, published_shows_state),
+        Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
+        Property::sometimes(
+            "witness: a scene outlives its time to live on the clock before the core is told",
+            stale_scene_awaits_tick,
+        ),
+        Property::sometimes("witness: an operator's command applies", command_applied),
+    ]
+}

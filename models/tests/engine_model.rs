@@ -1,0 +1,65 @@
+//! The engine model (`cooperation_models::model::engine`): the service engine as a host drives
+//! it, checked to completion with every property holding, and each property failing on its own
+//! planted fault in the engine.
+
+use cooperation_models::check::pins;
+use cooperation_models::model::engine::{self, EngineBounds, EngineFault, EngineModel};
+use stateright::{Checker, Model};
+
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+/// Two identifiers of one lane-change module, the clock to 3 ms (a time to live of 1 ms,
+/// publications every 2 ms).
+fn model() -> EngineModel {
+    EngineModel::new(EngineBounds {
+        scenes: 2,
+        horizon_ms: 3,
+    })
+    .expect("valid bounds")
+}
+
+/// The properties that fail on `model`, always-properties with a counterexample and
+/// sometimes-properties without a witness; and the unique state count.
+fn failing(model: EngineModel) -> (Vec<&'static str>, usize) {
+    let properties = model.properties();
+    let checker = model.checker().threads(2).spawn_bfs().join();
+    assert!(checker.is_done(), "the search ended");
+    let failing = properties
+        .iter()
+        .filter(|property| {
+            let found = checker.discovery(property.name).is_some();
+            match property.expectation {
+                stateright::Expectation::Always => found,
+                stateright::Expectation::Sometimes => !found,
+                stateright::Expectation::Eventually => found,
+            }
+        })
+        .map(|property| property.name)
+        .collect();
+    (failing, checker.unique_state_count())
+}
+
+/// Every property holds, every witness is reached, and the count is the pinned one.
+#[test]
+fn the_engine_meets_its_rules() {
+    let (failing, unique) = failing(model());
+    assert_eq!(failing, Vec::<&str>::new());
+    println!("engine model, 2 identifiers, the clock to 3 ms: {unique} unique states");
+    assert_eq!(unique, pins::ENGINE_2.unique);
+}
+
+/// Each property fails on a planted fault in the engine: the search for its counterexample,
+/// with that property alone checked, finds one.
+#[test]
+fn each_property_fails_on_its_planted_fault() {
+    for (fault, property) in [
+        (EngineFault::CallWithoutCatchUp, engine::TIME),
+        (EngineFault::CallWithoutCatchUp, engine::ANSWER),
+        (EngineFault::ReportWithoutCatchUp, engine::LIFETIME),
+        (EngineFault::ChangeUnpublished, engine::PUBLISH),
+    ] {
+        let (failing, _) = failing(model().with_fault(fault).focus(property));
+        assert_eq!(failing, vec![property], "{fault:?}");
+    }
+}

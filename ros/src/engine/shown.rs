@@ -1,0 +1,51 @@
+//! What the node's streams show of the core: every field of every live scene that a factor or
+//! the scenes topic carries, and every policy, but not the scenes' ages. The engine keeps the
+//! projection of its last publication and of the state now; where they differ, a publication is
+//! due at once.
+
+use cooperation::{Decision, Detail, Geometry, Module, OperatorDecision, Phase, PolicySetting};
+use cooperation::{SceneId, State};
+
+/// One live scene as the streams show it.
+type ShownScene = (
+    SceneId,
+    Module,
+    Phase,
+    Decision,
+    OperatorDecision,
+    bool,
+    Geometry,
+    Detail,
+);
+
+/// The streams' content, short of stamps and ages.
+#[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
+pub(super) struct Shown {
+    scenes: Vec<ShownScene>,
+    policies: Vec<PolicySetting>,
+}
+
+impl Shown {
+    /// What `state` shows.
+    #[must_use]
+    pub(super) fn of(state: &State) -> Self {
+        Self {
+            scenes: state
+                .scenes()
+                .map(|(id, scene)| {
+                    (
+                        id,
+                        scene.module(),
+                        scene.phase(),
+                        scene.module_decision(),
+                        scene.operator_decision(),
+                        scene.is_requested(),
+                        *scene.geometry(),
+                        scene.detail().clone(),
+                    )
+                })
+                .collect(),
+            policies: state.policies().collect(),
+        }
+    }
+}
