@@ -15,6 +15,20 @@ fn model() -> EngineModel {
     EngineModel::new(EngineBounds {
         scenes: 2,
         horizon_ms: 3,
+        geometry: false,
+        velocity: false,
+    })
+    .expect("valid bounds")
+}
+
+/// Two identifiers whose reports start at each distance the order rule treats specially, the
+/// clock at 0: steering scenes (a lane change), or velocity scenes (an intersection).
+fn geometry(velocity: bool) -> EngineModel {
+    EngineModel::new(EngineBounds {
+        scenes: 2,
+        horizon_ms: 0,
+        geometry: true,
+        velocity,
     })
     .expect("valid bounds")
 }
@@ -49,6 +63,20 @@ fn the_engine_meets_its_rules() {
     assert_eq!(unique, pins::ENGINE_2.unique);
 }
 
+/// The messages of steering and of velocity scenes at every special distance are the spec's,
+/// in its order; the counts are the pinned ones.
+#[test]
+fn the_messages_are_the_specs_at_every_special_distance() {
+    for (velocity, pin) in [
+        (false, pins::ENGINE_GEOMETRY_STEERING),
+        (true, pins::ENGINE_GEOMETRY_VELOCITY),
+    ] {
+        let (failing, unique) = failing(geometry(velocity));
+        assert_eq!(failing, Vec::<&str>::new(), "velocity: {velocity}");
+        assert_eq!(unique, pin.unique, "velocity: {velocity}");
+    }
+}
+
 /// Each property fails on a planted fault in the engine: the search for its counterexample,
 /// with that property alone checked, finds one.
 #[test]
@@ -61,5 +89,19 @@ fn each_property_fails_on_its_planted_fault() {
     ] {
         let (failing, _) = failing(model().with_fault(fault).focus(property));
         assert_eq!(failing, vec![property], "{fault:?}");
+    }
+    for (fault, velocity) in [
+        (EngineFault::UndecidedAsUnknown, true),
+        (EngineFault::FactorsByIdentifier, false),
+        (EngineFault::FactorsByIdentifier, true),
+        (EngineFault::StartFinishSwapped, false),
+    ] {
+        let model = geometry(velocity).with_fault(fault).focus(engine::MESSAGES);
+        let (failing, _) = failing(model);
+        assert_eq!(
+            failing,
+            vec![engine::MESSAGES],
+            "{fault:?}, velocity: {velocity}"
+        );
     }
 }

@@ -219,8 +219,28 @@ pub const ENGINE_2: Pin = Pin {
     generated: None,
 };
 
+/// The engine model's message check: 2 steering scenes starting at every special distance.
+pub const ENGINE_GEOMETRY_STEERING: Pin = Pin {
+    test: "models/tests/engine_model.rs::the_messages_are_the_specs_at_every_special_distance",
+    model: "engine, steering geometry",
+    bounds: "2 ids, 0 ms",
+    search: "BFS",
+    unique: 2_890,
+    generated: None,
+};
+
+/// The engine model's message check: 2 velocity scenes starting at every special distance.
+pub const ENGINE_GEOMETRY_VELOCITY: Pin = Pin {
+    test: "models/tests/engine_model.rs::the_messages_are_the_specs_at_every_special_distance",
+    model: "engine, velocity geometry",
+    bounds: "2 ids, 0 ms",
+    search: "BFS",
+    unique: 2_890,
+    generated: None,
+};
+
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 19] = [
+pub const ALL: [Pin; 21] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -240,6 +260,8 @@ pub const ALL: [Pin; 19] = [
     RTC_TWO_AVOIDANCES,
     RTC_QUOTA,
     ENGINE_2,
+    ENGINE_GEOMETRY_STEERING,
+    ENGINE_GEOMETRY_VELOCITY,
 ];
 
 /// The pin of the configuration the reach table names so, if one is pinned.

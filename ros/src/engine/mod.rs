@@ -235,7 +235,7 @@ impl Engine {
     /// Counts a change of the core; whether the streams now show something they have not.
     fn count_change(&mut self) -> Change {
         self.revision += 1;
-        self.shown = Shown::of(self.host.state());
+        self.shown.refresh(self.host.state());
         Change {
             revision: Some(self.revision),
             publish: self.published.as_ref() != Some(&self.shown),
@@ -332,15 +332,25 @@ impl Engine {
             return None;
         }
         let now_ms = self.engine_ms(now);
-        self.published = Some(self.shown.clone());
+        match &mut self.published {
+            Some(published) => published.clone_from(&self.shown),
+            None => self.published = Some(self.shown.clone()),
+        }
         self.next_publication_ms = now_ms.saturating_add(self.options.publish_every_ms.max(1));
+        Some(self.publication(now.stamp))
+    }
+
+    /// The streams' messages for the core as it is, stamped `stamp`, whether or not a
+    /// publication is due: what [`poll_publication`](Self::poll_publication) hands out.
+    #[must_use]
+    pub fn publication(&self, stamp: Time) -> Publication {
         let state = self.host.state();
-        Some(Publication {
+        Publication {
             revision: self.revision,
-            velocity: wire::velocity_factors(state, now.stamp),
-            steering: wire::steering_factors(state, now.stamp),
-            scenes: scenes::scene_array(state, now.stamp),
-        })
+            velocity: wire::velocity_factors(state, stamp),
+            steering: wire::steering_factors(state, stamp),
+            scenes: scenes::scene_array(state, stamp),
+        }
     }
 
     /// Milliseconds from `now` until the next periodic publication is due (0 if it is).

@@ -19,7 +19,7 @@ type ShownScene = (
 );
 
 /// The streams' content, short of stamps and ages.
-#[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
+#[derive(PartialEq, Eq, Hash, Debug, Default)]
 pub(super) struct Shown {
     scenes: Vec<ShownScene>,
     policies: Vec<PolicySetting>,
@@ -29,23 +29,43 @@ impl Shown {
     /// What `state` shows.
     #[must_use]
     pub(super) fn of(state: &State) -> Self {
+        let mut shown = Self::default();
+        shown.refresh(state);
+        shown
+    }
+
+    /// Makes this what `state` shows, in the room it already has: a change of the core costs
+    /// no allocation once the lists have grown to the state's size.
+    pub(super) fn refresh(&mut self, state: &State) {
+        self.scenes.clear();
+        self.scenes.extend(state.scenes().map(|(id, scene)| {
+            (
+                id,
+                scene.module(),
+                scene.phase(),
+                scene.module_decision(),
+                scene.operator_decision(),
+                scene.is_requested(),
+                *scene.geometry(),
+                scene.detail().clone(),
+            )
+        }));
+        self.policies.clear();
+        self.policies.extend(state.policies());
+    }
+}
+
+impl Clone for Shown {
+    fn clone(&self) -> Self {
         Self {
-            scenes: state
-                .scenes()
-                .map(|(id, scene)| {
-                    (
-                        id,
-                        scene.module(),
-                        scene.phase(),
-                        scene.module_decision(),
-                        scene.operator_decision(),
-                        scene.is_requested(),
-                        *scene.geometry(),
-                        scene.detail().clone(),
-                    )
-                })
-                .collect(),
-            policies: state.policies().collect(),
+            scenes: self.scenes.clone(),
+            policies: self.policies.clone(),
         }
+    }
+
+    /// Into the room this one has (the last publication's copy, refreshed at each one).
+    fn clone_from(&mut self, source: &Self) {
+        self.scenes.clone_from(&source.scenes);
+        self.policies.clone_from(&source.policies);
     }
 }

@@ -15,7 +15,7 @@
 
 mod properties;
 
-pub use properties::{properties, ANSWER, LIFETIME, PUBLISH, TIME};
+pub use properties::{properties, ANSWER, LIFETIME, MESSAGES, PUBLISH, TIME};
 
 use std::hash::{Hash, Hasher};
 
@@ -27,13 +27,29 @@ use cooperation_ros::engine::{self, Engine, Now, Reply, Request};
 use cooperation_ros::rtc::{self, CooperateStatus};
 use cooperation_ros::sync::{SyncRequest, SyncStatus};
 use cooperation_ros::{wire, Time};
+
+use crate::model::spec;
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property, Representative};
 
-/// The one module: a lane change, reported through `lane_change_left`.
-const MODULE: Module = Module::new(Behavior::LaneChange);
-/// The RTC interface its scenes are reported through.
-const INTERFACE: &str = "lane_change_left";
+/// The steering module: a lane change, reported through `lane_change_left`.
+const STEERING: (Module, &str) = (Module::new(Behavior::LaneChange), "lane_change_left");
+/// The velocity module: an intersection, reported through `intersection`.
+const VELOCITY: (Module, &str) = (Module::new(Behavior::Intersection), "intersection");
+/// The distances a report's start takes with [`EngineBounds::geometry`]: those the order rule
+/// treats specially (`[COOP-OUT-ORDER.1]`: NaN of either sign, ±0, both infinities).
+pub const DISTANCES: [f32; 6] = [
+    f32::NAN,
+    -f32::NAN,
+    -0.0,
+    0.0,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+];
+/// A report's start distance without [`EngineBounds::geometry`].
+const START: f32 = 10.0;
+/// Every report's finish distance: never a start distance, so that the two are told apart.
+const FINISH: f32 = 50.0;
 /// Each scene's time to live, in milliseconds.
 pub const TTL_MS: u64 = 1;
 /// The interval of periodic publications, in milliseconds.
@@ -51,14 +67,23 @@ pub enum EngineFault {
     ReportWithoutCatchUp,
     /// A change's publication is taken and never sent: the engine counts it as shown.
     ChangeUnpublished,
+    /// An undecided operator decision is written as `UNKNOWN` (0), not `UNDECIDED`.
+    UndecidedAsUnknown,
+    /// The factors are listed by identifier, not by distance.
+    FactorsByIdentifier,
+    /// A steering factor's start and finish distances are swapped.
+    StartFinishSwapped,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 3] = [
+    pub const ALL: [Self; 6] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
+        Self::UndecidedAsUnknown,
+        Self::FactorsByIdentifier,
+        Self::StartFinishSwapped,
     ];
 }
 
@@ -69,6 +94,13 @@ pub struct EngineBounds {
     pub scenes: usize,
     /// The clock's last reading, in milliseconds from 0.
     pub horizon_ms: u64,
+    /// Reports start at each of [`DISTANCES`] (else all at one distance), and nothing is
+    /// published: the configuration that checks the messages' order and fields.
+    #[serde(default)]
+    pub geometry: bool,
+    /// The scenes are an intersection's (velocity factors), not a lane change's (steering).
+    #[serde(default)]
+    pub velocity: bool,
 }
 
 /// An action of the engine model.
@@ -80,8 +112,9 @@ pub enum EngineAction {
     Tick,
     /// The host polls for a publication and sends what it gets.
     Publish,
-    /// A module's sync reports the scene (waiting), safe or not.
-    Report(SceneId, bool),
+    /// A module's sync reports the scene (waiting), safe or not, starting at the distance of
+    /// this position of [`DISTANCES`] (with [`EngineBounds::geometry`]).
+    Report(SceneId, bool, usize),
     /// A module's sync removes the scene.
     Remove(SceneId),
     /// An operator's `set_commands` for the scene.
@@ -96,6 +129,74 @@ pub mod broken {
     pub const STALE_COMMAND: u8 = 1;
     /// An operator's call was answered otherwise than the core's transition at its time.
     pub const ANSWER: u8 = 2;
+}
+
+/// The factors the streams write for the engine's core as the spec's oracle reads them
+/// ([`spec::messages::Factor`]): velocity or steering, as the model's module reports.
+#[must_use]
+pub fn written(publication: &engine::Publication, steering: bool) -> Vec<spec::messages::Factor> {
+    use spec::messages::Factor;
+    let status = |status: &wire::CooperationStatus| {
+        (
+            status.uuid.uuid.clone(),
+            status.autonomous.decision,
+            status.cooperator.decision,
+            status.cancellable,
+        )
+    };
+    let factor = |distances: Vec<f32>,
+                  direction: u16,
+                  status_constant: u16,
+                  names: [&str; 3],
+                  cooperation: &[wire::CooperationStatus]| {
+        let (uuid, autonomous, cooperator, cancellable) = match cooperation {
+            [one] => status(one),
+            _ => (Vec::new(), 0, 0, false),
+        };
+        Factor {
+            uuid,
+            distances: distances.iter().map(|d| d.to_bits()).collect(),
+            direction,
+            status: status_constant,
+            behavior: names[0].to_owned(),
+            sequence: names[1].to_owned(),
+            detail: names[2].to_owned(),
+            autonomous,
+            cooperator,
+            cancellable,
+        }
+    };
+    if steering {
+        publication
+            .steering
+            .factors
+            .iter()
+            .map(|f| {
+                factor(
+                    f.distance.to_vec(),
+                    f.direction,
+                    f.status,
+                    [&f.behavior, &f.sequence, &f.detail],
+                    &f.cooperation,
+                )
+            })
+            .collect()
+    } else {
+        publication
+            .velocity
+            .factors
+            .iter()
+            .map(|f| {
+                factor(
+                    vec![f.distance],
+                    0,
+                    f.status,
+                    [&f.behavior, &f.sequence, &f.detail],
+                    &f.cooperation,
+                )
+            })
+            .collect()
+    }
 }
 
 /// A state of the engine model.
@@ -190,6 +291,8 @@ pub struct EngineModel {
     focus: Option<&'static str>,
     config: Config,
     ids: Vec<SceneId>,
+    /// The module and the interface its scenes are reported through.
+    reporter: (Module, &'static str),
 }
 
 impl EngineModel {
@@ -201,8 +304,9 @@ impl EngineModel {
         if !(1..=4).contains(&bounds.scenes) {
             return Err("scenes must be 1 to 4".to_owned());
         }
+        let reporter = if bounds.velocity { VELOCITY } else { STEERING };
         let config = Config {
-            policies: [(MODULE, Policy::Required)].into(),
+            policies: [(reporter.0, Policy::Required)].into(),
             limits: Limits {
                 ttl_ms: TTL_MS,
                 max_scenes: bounds.scenes,
@@ -219,6 +323,7 @@ impl EngineModel {
             focus: None,
             config,
             ids,
+            reporter,
         })
     }
 
@@ -235,6 +340,39 @@ impl EngineModel {
     pub const fn focus(mut self, property: &'static str) -> Self {
         self.focus = Some(property);
         self
+    }
+
+    /// The factors the engine's streams write for `state`'s core (through a planted message
+    /// fault, if there is one), as the spec's oracle reads them.
+    #[must_use]
+    pub fn messages(&self, state: &EngineStep) -> Vec<spec::messages::Factor> {
+        let steering = !self.bounds.velocity;
+        let mut factors = written(&state.engine.publication(state.now().stamp), steering);
+        match self.fault {
+            Some(EngineFault::UndecidedAsUnknown) => {
+                for factor in &mut factors {
+                    if factor.cooperator == spec::messages::decision::UNDECIDED {
+                        factor.cooperator = 0;
+                    }
+                }
+            }
+            Some(EngineFault::FactorsByIdentifier) => {
+                factors.sort_by(|a, b| a.uuid.cmp(&b.uuid));
+            }
+            Some(EngineFault::StartFinishSwapped) => {
+                for factor in &mut factors {
+                    factor.distances.reverse();
+                }
+            }
+            _ => {}
+        }
+        factors
+    }
+
+    /// Whether the model's scenes are steering scenes (else velocity).
+    #[must_use]
+    pub const fn steering(&self) -> bool {
+        !self.bounds.velocity
     }
 
     /// The model's bounds.
@@ -275,18 +413,19 @@ impl EngineModel {
     }
 }
 
-/// A sync of one status of `id`, waiting, `safe` or not.
-fn report(id: SceneId, safe: bool) -> SyncRequest {
+/// A sync through `interface` of one status of `id`, waiting, `safe` or not, from `start` to
+/// [`FINISH`].
+fn report(interface: &str, id: SceneId, safe: bool, start: f32) -> SyncRequest {
     let status = CooperateStatus {
         uuid: id.into(),
         safe,
         state: rtc::Lifecycle::new(rtc::Lifecycle::WAITING_FOR_EXECUTION),
-        start_distance: 10.0,
-        finish_distance: 20.0,
+        start_distance: start,
+        finish_distance: FINISH,
         ..CooperateStatus::default()
     };
     SyncRequest {
-        interface: INTERFACE.to_owned(),
+        interface: interface.to_owned(),
         statuses: vec![SyncStatus::from(&status)],
         sequences: Vec::new(),
         removed: Vec::new(),
@@ -334,12 +473,19 @@ impl Model for EngineModel {
             actions.push(EngineAction::Wait);
         }
         actions.push(EngineAction::Tick);
-        if state.engine.publication_due(state.now()) {
+        if !self.bounds.geometry && state.engine.publication_due(state.now()) {
             actions.push(EngineAction::Publish);
         }
+        let starts = if self.bounds.geometry {
+            DISTANCES.len()
+        } else {
+            1
+        };
         for &id in &self.ids {
-            actions.push(EngineAction::Report(id, false));
-            actions.push(EngineAction::Report(id, true));
+            for start in 0..starts {
+                actions.push(EngineAction::Report(id, false, start));
+                actions.push(EngineAction::Report(id, true, start));
+            }
             actions.push(EngineAction::Remove(id));
             actions.push(EngineAction::Command(id, OperatorDecision::Activate));
             actions.push(EngineAction::Command(id, OperatorDecision::Deactivate));
@@ -360,8 +506,14 @@ impl Model for EngineModel {
                 next.engine.poll_publication(now)?;
                 next.published = Some(content(next.engine.state()));
             }
-            EngineAction::Report(id, safe) => {
-                let reply = self.handle(&mut next.engine, Request::Sync(report(id, safe)), now);
+            EngineAction::Report(id, safe, start) => {
+                let start = if self.bounds.geometry {
+                    DISTANCES.get(start).copied()?
+                } else {
+                    START
+                };
+                let request = report(self.reporter.1, id, safe, start);
+                let reply = self.handle(&mut next.engine, Request::Sync(request), now);
                 let Reply::Sync(response) = reply else {
                     return None;
                 };
@@ -376,7 +528,7 @@ impl Model for EngineModel {
                 let request = SyncRequest {
                     removed: vec![id.into()],
                     statuses: Vec::new(),
-                    ..report(id, false)
+                    ..report(self.reporter.1, id, false, START)
                 };
                 let reply = self.handle(&mut next.engine, Request::Sync(request), now);
                 let Reply::Sync(response) = reply else {
@@ -409,7 +561,7 @@ impl Model for EngineModel {
             }
             EngineAction::Policy(policy) => {
                 let settings = [PolicySetting {
-                    module: MODULE,
+                    module: self.reporter.0,
                     policy,
                 }];
                 let request = wire::Request::SetPolicies(settings.iter().copied().collect());
@@ -424,6 +576,9 @@ impl Model for EngineModel {
 
     fn properties(&self) -> Vec<Property<Self>> {
         let mut all = properties();
+        if self.bounds.horizon_ms <= self.config.limits.ttl_ms {
+            all.retain(|property| property.name != properties::STALE_WITNESS);
+        }
         if let Some(focus) = self.focus {
             all.retain(|property| property.name == focus);
         }

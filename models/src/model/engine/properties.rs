@@ -6,6 +6,7 @@ use cooperation::Phase;
 use stateright::Property;
 
 use super::{broken, content, EngineModel, EngineStep};
+use crate::model::spec::messages;
 
 /// `COOP-ENGINE-TIME.1`'s property.
 pub const TIME: &str =
@@ -13,6 +14,12 @@ pub const TIME: &str =
 /// `COOP-ENGINE-TIME.1`'s other property.
 pub const LIFETIME: &str =
     "COOP-ENGINE-TIME.1: a scene lives its time to live from the time of its last report";
+/// The messages' property.
+pub const MESSAGES: &str = "COOP-OUT-STATUS.1, COOP-OUT-ORDER.1 (engine): the streams' factors are the spec's mapping of the state, field by field, ordered by distance";
+/// The witness of a scene past its time to live, before the core is told: reachable only when
+/// the clock runs past the time to live.
+pub(super) const STALE_WITNESS: &str =
+    "witness: a scene outlives its time to live on the clock before the core is told";
 /// `COOP-ENGINE-PUBLISH.1`'s property.
 pub const PUBLISH: &str = "COOP-ENGINE-PUBLISH.1: whenever no publication is due, the last one shows what the state shows";
 /// `COOP-ENGINE-ANSWER.1`'s property.
@@ -32,6 +39,12 @@ fn reported_scenes_live(model: &EngineModel, state: &EngineStep) -> bool {
             state.clock_ms.saturating_sub(reported) > ttl
         }) || state.engine.state().scene(id).is_some()
     })
+}
+
+/// The factors the engine writes are those the spec's oracle states for the core, field by
+/// field and in order.
+fn messages_are_the_spec(model: &EngineModel, state: &EngineStep) -> bool {
+    model.messages(state) == messages::factors(state.engine.state(), model.steering())
 }
 
 /// When the engine says no publication is due, what the streams last carried is what the core
@@ -74,10 +87,8 @@ pub fn properties() -> Vec<Property<EngineModel>> {
         Property::always(LIFETIME, reported_scenes_live),
         Property::always(PUBLISH, published_shows_state),
         Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
-        Property::sometimes(
-            "witness: a scene outlives its time to live on the clock before the core is told",
-            stale_scene_awaits_tick,
-        ),
+        Property::always(MESSAGES, messages_are_the_spec),
+        Property::sometimes(STALE_WITNESS, stale_scene_awaits_tick),
         Property::sometimes("witness: an operator's command applies", command_applied),
     ]
 }

@@ -2,8 +2,6 @@
 
 use std::sync::OnceLock;
 
-use core::cmp::Ordering;
-
 use cooperation::{
     CooperationStatus, Decision, FactorKind, FactorLists, Geometry, Module, OperatorDecision,
     Phase, Policy, Rule, SceneId, State, TableLayout,
@@ -243,19 +241,6 @@ fn relabel_is_a_renaming(_: &SequentialModel, step: &Step) -> bool {
     identity && swapped_back && core.relabel(|_| a).is_none()
 }
 
-/// `[COOP-OUT-ORDER.1]`'s order of distances, from its text: ascending, every NaN, of either
-/// sign, last (NaNs in the order of their bits, positive ones first).
-fn spec_distance_order(a: f32, b: f32) -> Ordering {
-    match (a.is_nan(), b.is_nan()) {
-        (false, false) => a.total_cmp(&b),
-        (true, false) => Ordering::Greater,
-        (false, true) => Ordering::Less,
-        (true, true) => (a.to_bits() >> 31)
-            .cmp(&(b.to_bits() >> 31))
-            .then(a.total_cmp(&b)),
-    }
-}
-
 /// `[COOP-OUT-ORDER.1]`: each factor list holds every live scene of its kind once, with its
 /// status, by distance and then identifier; `factors_into` lists what the one-list calls list.
 fn factor_lists_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
@@ -266,7 +251,9 @@ fn factor_lists_are_the_spec(_: &SequentialModel, step: &Step) -> bool {
             .filter(|(_, scene)| scene.geometry().kind() == kind)
             .map(|(id, scene)| (scene.geometry().sort_distance().0, id))
             .collect();
-        scenes.sort_by(|a, b| spec_distance_order(a.0, b.0).then(a.1.cmp(&b.1)));
+        scenes.sort_by(|a, b| {
+            crate::model::spec::messages::distance_order(a.0, b.0).then(a.1.cmp(&b.1))
+        });
         scenes.into_iter().map(|(_, id)| id).collect::<Vec<_>>()
     };
     let mut velocity = Vec::new();
