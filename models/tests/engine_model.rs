@@ -86,6 +86,7 @@ fn each_property_fails_on_its_planted_fault() {
         (EngineFault::CallWithoutCatchUp, engine::ANSWER),
         (EngineFault::ReportWithoutCatchUp, engine::LIFETIME),
         (EngineFault::ChangeUnpublished, engine::PUBLISH),
+        (EngineFault::ChangeUnhinted, engine::HINTED),
     ] {
         let (failing, _) = failing(model().with_fault(fault).focus(property));
         assert_eq!(failing, vec![property], "{fault:?}");

@@ -258,14 +258,13 @@ impl Node {
     /// reply, and the revision of the state it made if it changed what the streams show (wait
     /// for [`published`](Self::published) before answering, so that the caller's next
     /// publication shows the change). Takes the lock: call it where blocking is allowed.
+    /// A caller that does not wait asks for the publication with
+    /// [`publish_soon`](Self::publish_soon).
     #[must_use]
     pub fn handle(&self, request: Request) -> (Reply, Option<u64>) {
         let now = self.clock.now();
         let handled = self.shared.update(|engine| engine.handle(request, now));
         let shown = handled.change.revision.filter(|_| handled.change.publish);
-        if shown.is_some() {
-            self.publish_soon();
-        }
         (handled.reply, shown)
     }
 

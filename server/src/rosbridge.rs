@@ -333,8 +333,13 @@ fn call_service(node: &Node, envelope: &Envelope<'_>, grant: &Grant) -> (Vec<Act
     }
     let (reply, revision) = node.handle(request);
     // An operator's call is answered once the streams show its change; a module's sync at once
-    // (its answer carries what it needs).
-    let revision = revision.filter(|_| endpoint != Endpoint::Sync);
+    // (its answer carries what it needs), its change published soon.
+    if endpoint == Endpoint::Sync {
+        if revision.is_some() {
+            node.publish_soon();
+        }
+        return (vec![respond(name, id, &reply)], None);
+    }
     (vec![respond(name, id, &reply)], revision)
 }
 

@@ -11,7 +11,7 @@
 //!   answer says what it changed ([`Change`]).
 //! - [`Engine::handle_timeout`] tells the core the time between requests (scenes age out).
 //! - [`Engine::poll_publication`] hands out the streams' messages when a publication is due: at
-//!   once when what the streams show differs from what they last showed, and every
+//!   once after a change the streams show (`[COOP-ENGINE-PUBLISH.1]`), and every
 //!   [`Options::publish_every_ms`] otherwise (so stamps and ages stay fresh).
 //!
 //! The core is built here, once, from a configuration and [`Options`] whose defaults every
@@ -47,7 +47,6 @@ use crate::rtc::{Rtc, SCENE_QUOTA};
 use crate::wire::{self, SteeringFactorArray, VelocityFactorArray};
 use crate::{sync, Host, Time};
 use scenes::SceneArray;
-use shown::Shown;
 
 /// The interval of periodic publications unless a host says otherwise, in milliseconds.
 pub const PUBLISH_EVERY_MS: u64 = 100;
@@ -106,7 +105,8 @@ pub struct Change {
     /// The core's revision after the call, if the call changed it (a report that only renews
     /// its scene's time to live changes the core too).
     pub revision: Option<u64>,
-    /// What the streams show differs from their last publication: poll soon.
+    /// The call changed what the streams show (a hint to poll soon: the poll decides, by
+    /// comparing what the streams show with their last publication).
     pub publish: bool,
 }
 
@@ -141,10 +141,8 @@ pub struct Engine {
     origin_ns: Option<i64>,
     /// Counts the changes made to the core.
     revision: u64,
-    /// What the streams would show now.
-    shown: Shown,
-    /// What the last publication showed; `None` before the first.
-    published: Option<Shown>,
+    /// A change the streams show came since the last publication (or there was none yet).
+    unpublished: bool,
     /// The engine time at which a periodic publication is due, in milliseconds.
     next_publication_ms: u64,
 }
@@ -166,14 +164,12 @@ impl Engine {
         if options.scene_quota > 0 {
             rtc = rtc.with_scene_quota(options.scene_quota);
         }
-        let shown = Shown::of(&state);
         Self {
             host: Host::new(state, rtc),
             options,
             origin_ns: None,
             revision: 0,
-            shown,
-            published: None,
+            unpublished: true,
             next_publication_ms: 0,
         }
     }
@@ -232,13 +228,13 @@ impl Engine {
         Now::new(self.origin_ns.unwrap_or(0).saturating_add(told_ns), stamp)
     }
 
-    /// Counts a change of the core; whether the streams now show something they have not.
-    fn count_change(&mut self) -> Change {
+    /// Counts a change of the core, `shown` if it changed what the streams show.
+    fn count_change(&mut self, shown: bool) -> Change {
         self.revision += 1;
-        self.shown.refresh(self.host.state());
+        self.unpublished |= shown;
         Change {
             revision: Some(self.revision),
-            publish: self.published.as_ref() != Some(&self.shown),
+            publish: shown,
         }
     }
 
@@ -260,32 +256,31 @@ impl Engine {
     /// call gets the core's transition's answer at its time (`[COOP-ENGINE-ANSWER.1]`); the
     /// sync's statuses are stamped `now.stamp`.
     pub fn handle(&mut self, request: Request, now: Now) -> Handled {
-        let ticked = self.catch_up(now).is_some();
+        let ticked = self.catch_up(now);
+        let mut shown = ticked.as_ref().is_some_and(|t| !t.retired.is_empty());
         let (reply, changed) = match request {
             Request::Ad(request) => {
+                // An AD API call changed the core exactly when an operator decision or a policy
+                // is now other than it was, each of which the streams show.
                 let answer = self.host.answer(&request);
+                shown |= answer.changed;
                 (Reply::Ad(answer.response), answer.changed)
             }
             Request::Sync(request) => {
+                let named = shown::named(&request);
+                let before = shown::of_scenes(self.host.state(), &named);
                 let (response, changed) = sync::answer(&mut self.host, &request, now.stamp);
+                shown |= changed && before != shown::of_scenes(self.host.state(), &named);
                 (Reply::Sync(response), changed)
             }
             Request::Malformed(endpoint, message) => (Reply::refusal(endpoint, message), false),
         };
-        let change = if changed || ticked {
-            self.count_change()
+        let change = if changed || ticked.is_some() {
+            self.count_change(shown)
         } else {
-            self.unchanged()
+            Change::default()
         };
         Handled { reply, change }
-    }
-
-    /// A call that changed nothing: whether a publication is still due.
-    fn unchanged(&self) -> Change {
-        Change {
-            revision: None,
-            publish: self.published.as_ref() != Some(&self.shown),
-        }
     }
 
     /// Tells the core the time between requests: scenes whose time to live ran out retire.
@@ -297,8 +292,11 @@ impl Engine {
     /// (its `retired` are the scenes that aged out).
     pub fn advance(&mut self, now: Now) -> (Change, Option<Transition>) {
         match self.catch_up(now) {
-            Some(transition) => (self.count_change(), Some(transition)),
-            None => (self.unchanged(), None),
+            Some(transition) => (
+                self.count_change(!transition.retired.is_empty()),
+                Some(transition),
+            ),
+            None => (Change::default(), None),
         }
     }
 
@@ -311,19 +309,18 @@ impl Engine {
     ) -> (Result<T, E>, Change) {
         let result = call(&mut self.host);
         let change = if result.is_ok() {
-            self.count_change()
+            self.count_change(true)
         } else {
-            self.unchanged()
+            Change::default()
         };
         (result, change)
     }
 
-    /// Whether a publication is due at `now` (`[COOP-ENGINE-PUBLISH.1]`): the streams show
-    /// something their last publication did not, or the periodic interval has run.
+    /// Whether a publication is due at `now` (`[COOP-ENGINE-PUBLISH.1]`): a change the streams
+    /// show came since the last publication, or the periodic interval has run.
     #[must_use]
     pub fn publication_due(&self, now: Now) -> bool {
-        let now_ms = self.ms_at(now);
-        self.published.as_ref() != Some(&self.shown) || now_ms >= self.next_publication_ms
+        self.unpublished || self.ms_at(now) >= self.next_publication_ms
     }
 
     /// The streams' messages at `now`, if a publication is due ([`publication_due`](Self::publication_due)).
@@ -332,10 +329,7 @@ impl Engine {
             return None;
         }
         let now_ms = self.engine_ms(now);
-        match &mut self.published {
-            Some(published) => published.clone_from(&self.shown),
-            None => self.published = Some(self.shown.clone()),
-        }
+        self.unpublished = false;
         self.next_publication_ms = now_ms.saturating_add(self.options.publish_every_ms.max(1));
         Some(self.publication(now.stamp))
     }

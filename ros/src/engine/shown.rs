@@ -1,10 +1,14 @@
-//! What the node's streams show of the core: every field of every live scene that a factor or
-//! the scenes topic carries, and every policy, but not the scenes' ages. The engine keeps the
-//! projection of its last publication and of the state now; where they differ, a publication is
-//! due at once.
+//! What the node's streams show of a scene: every field a factor or the scenes topic carries,
+//! but not its age. A sync changes what the streams show exactly when one of the scenes it names
+//! shows otherwise after it than before; an AD API call, when it changes an operator decision or
+//! a policy; time, when a scene expires. Those are the changes that make a publication due at
+//! once (`[COOP-ENGINE-PUBLISH.1]`); the engine model checks that no other call changes what
+//! the streams carry.
 
-use cooperation::{Decision, Detail, Geometry, Module, OperatorDecision, Phase, PolicySetting};
-use cooperation::{SceneId, State};
+use cooperation::{Decision, Detail, Geometry, Module, OperatorDecision, Phase};
+use cooperation::{Scene, SceneId, State};
+
+use crate::sync::SyncRequest;
 
 /// One live scene as the streams show it.
 type ShownScene = (
@@ -18,54 +22,33 @@ type ShownScene = (
     Detail,
 );
 
-/// The streams' content, short of stamps and ages.
-#[derive(PartialEq, Eq, Hash, Debug, Default)]
-pub(super) struct Shown {
-    scenes: Vec<ShownScene>,
-    policies: Vec<PolicySetting>,
+/// One scene as the streams show it.
+fn shown(id: SceneId, scene: &Scene) -> ShownScene {
+    (
+        id,
+        scene.module(),
+        scene.phase(),
+        scene.module_decision(),
+        scene.operator_decision(),
+        scene.is_requested(),
+        *scene.geometry(),
+        scene.detail().clone(),
+    )
 }
 
-impl Shown {
-    /// What `state` shows.
-    #[must_use]
-    pub(super) fn of(state: &State) -> Self {
-        let mut shown = Self::default();
-        shown.refresh(state);
-        shown
-    }
-
-    /// Makes this what `state` shows, in the room it already has: a change of the core costs
-    /// no allocation once the lists have grown to the state's size.
-    pub(super) fn refresh(&mut self, state: &State) {
-        self.scenes.clear();
-        self.scenes.extend(state.scenes().map(|(id, scene)| {
-            (
-                id,
-                scene.module(),
-                scene.phase(),
-                scene.module_decision(),
-                scene.operator_decision(),
-                scene.is_requested(),
-                *scene.geometry(),
-                scene.detail().clone(),
-            )
-        }));
-        self.policies.clear();
-        self.policies.extend(state.policies());
-    }
+/// The scenes a sync names, in its order: those it reports, then those it removes.
+pub(super) fn named(request: &SyncRequest) -> Vec<SceneId> {
+    request
+        .statuses
+        .iter()
+        .map(|status| SceneId::from(status.uuid))
+        .chain(request.removed.iter().map(|&uuid| SceneId::from(uuid)))
+        .collect()
 }
 
-impl Clone for Shown {
-    fn clone(&self) -> Self {
-        Self {
-            scenes: self.scenes.clone(),
-            policies: self.policies.clone(),
-        }
-    }
-
-    /// Into the room this one has (the last publication's copy, refreshed at each one).
-    fn clone_from(&mut self, source: &Self) {
-        self.scenes.clone_from(&source.scenes);
-        self.policies.clone_from(&source.policies);
-    }
+/// How the streams show each of `ids` in `state` (`None`: not live).
+pub(super) fn of_scenes(state: &State, ids: &[SceneId]) -> Vec<Option<ShownScene>> {
+    ids.iter()
+        .map(|&id| state.scene(id).map(|scene| shown(id, scene)))
+        .collect()
 }

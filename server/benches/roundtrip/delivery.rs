@@ -85,10 +85,23 @@ pub(super) async fn delivery(
     let mut each = Vec::with_capacity(count * rounds);
     let mut all = Vec::with_capacity(rounds);
     let deadline = Instant::now() + CASE_DEADLINE;
-    for _ in 0..rounds {
+    for round in 0..rounds {
         if Instant::now() > deadline {
             break;
         }
+        // A change the streams show, straight to the engine (no publishing task is asked), so
+        // that the engine has a publication due for `Node::publish` to send: the first scene's
+        // decision, set to whichever of the two it does not have.
+        let now = node.clock().now();
+        node.shared().update(|engine| {
+            for pass in [round, round + 1] {
+                let request = Endpoint::Ad(Service::SetCommands)
+                    .read_json(command_args(0, decision(pass)).as_bytes());
+                if engine.handle(request, now).change.publish {
+                    break;
+                }
+            }
+        });
         let began = Instant::now();
         node.publish();
         let last = tokio::time::timeout(CASE_DEADLINE, both_frames(&mut arrived, count))

@@ -51,7 +51,8 @@ impl InProcess {
 pub(super) const CALL: &str = "Node::handle(SetCommands): JSON, engine, response, publication";
 pub(super) const JSON_SERVICE: &str = "JSON service alone (read, engine under the lock, write)";
 pub(super) const CORE_COMMAND: &str = "core alone (one SetCommands input under the lock)";
-pub(super) const PUBLISH: &str = "Node::publish: both topics read, converted, serialized";
+pub(super) const PUBLISH: &str =
+    "a publication (Node::publish when one is due): the engine's messages, three frames serialized";
 pub(super) const CONVERT: &str = "core query + conversion to AD API messages (under the lock)";
 pub(super) const QUERY: &str = "core query alone (velocity_ + steering_factors_into)";
 pub(super) const QUERY_KEYED: &str = "core query, keyed form (factors_into)";
@@ -105,7 +106,29 @@ pub(super) fn in_process(node: &Node) -> InProcess {
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         black_box(state.apply(&Input::SetCommands { commands })).ok();
     };
-    let mut publish = |_: usize| node.publish();
+    // What `Node::publish` does when the engine says a publication is due (here it would say
+    // none is: nothing changes between iterations).
+    let mut publish = |_: usize| {
+        let stamp = node.clock().stamp();
+        let publication = node.shared().read(|engine| engine.publication(stamp));
+        let _frames = black_box([
+            serde_json::to_string(&Publish {
+                op: "publish",
+                topic: Topic::Velocity.name(),
+                msg: &publication.velocity,
+            }),
+            serde_json::to_string(&Publish {
+                op: "publish",
+                topic: Topic::Steering.name(),
+                msg: &publication.steering,
+            }),
+            serde_json::to_string(&Publish {
+                op: "publish",
+                topic: Topic::Scenes.name(),
+                msg: &publication.scenes,
+            }),
+        ]);
+    };
     let mut convert = |_: usize| {
         let stamp = node.clock().stamp();
         black_box(node.shared().read(|host| {

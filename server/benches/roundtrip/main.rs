@@ -418,6 +418,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut config =
         cooperation_ros::settings::parse(include_str!("../../../config/cooperation.param.yaml"))?;
     config.limits.max_scenes = config.limits.max_scenes.max(SCENES);
+    // Every request tells the core its time: no scene may expire during the run.
+    config.limits.ttl_ms = 3_600_000;
     let node = Arc::new(Node::with_scene_quota(config, SCENES)?);
     let per_interface = SCENES.div_ceil(INTERFACES.len());
     for (at, interface) in INTERFACES.iter().enumerate() {

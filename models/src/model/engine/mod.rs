@@ -15,7 +15,7 @@
 
 mod properties;
 
-pub use properties::{properties, ANSWER, LIFETIME, MESSAGES, PUBLISH, TIME};
+pub use properties::{properties, ANSWER, HINTED, LIFETIME, MESSAGES, PUBLISH, TIME};
 
 use std::hash::{Hash, Hasher};
 
@@ -67,6 +67,8 @@ pub enum EngineFault {
     ReportWithoutCatchUp,
     /// A change's publication is taken and never sent: the engine counts it as shown.
     ChangeUnpublished,
+    /// A call that changes what the streams show does not say so (no publication asked).
+    ChangeUnhinted,
     /// An undecided operator decision is written as `UNKNOWN` (0), not `UNDECIDED`.
     UndecidedAsUnknown,
     /// The factors are listed by identifier, not by distance.
@@ -77,10 +79,11 @@ pub enum EngineFault {
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 7] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
+        Self::ChangeUnhinted,
         Self::UndecidedAsUnknown,
         Self::FactorsByIdentifier,
         Self::StartFinishSwapped,
@@ -129,6 +132,8 @@ pub mod broken {
     pub const STALE_COMMAND: u8 = 1;
     /// An operator's call was answered otherwise than the core's transition at its time.
     pub const ANSWER: u8 = 2;
+    /// A call changed what the streams show without asking for a publication.
+    pub const UNHINTED: u8 = 4;
 }
 
 /// The factors the streams write for the engine's core as the spec's oracle reads them
@@ -397,18 +402,25 @@ impl EngineModel {
         self.ids.iter().position(|&known| known == id)
     }
 
-    /// A request at `now`, through the planted fault if there is one; what the engine answered.
-    fn handle(&self, engine: &mut Engine, request: Request, now: Now) -> Reply {
+    /// A request at `now`, through the planted fault if there is one; what the engine answered,
+    /// flagged in `next` if it changed what the streams show without saying so.
+    fn handle(&self, next: &mut EngineStep, request: Request, now: Now) -> Reply {
+        let before = next.engine.state().clone();
+        let engine = &mut next.engine;
         let late = match self.fault {
             Some(EngineFault::CallWithoutCatchUp) => matches!(request, Request::Ad(_)),
             Some(EngineFault::ReportWithoutCatchUp) => matches!(request, Request::Sync(_)),
             _ => false,
         };
         let at = if late { engine.told(now.stamp) } else { now };
-        let handled = engine.handle(request, at);
+        let mut handled = engine.handle(request, at);
         if self.fault == Some(EngineFault::ChangeUnpublished) && handled.change.publish {
             drop(engine.poll_publication(now));
         }
+        if self.fault == Some(EngineFault::ChangeUnhinted) {
+            handled.change.publish = false;
+        }
+        unhinted(next, &before, handled.change);
         handled.reply
     }
 }
@@ -500,7 +512,12 @@ impl Model for EngineModel {
         match action {
             EngineAction::Wait => next.clock_ms += 1,
             EngineAction::Tick => {
-                next.engine.handle_timeout(now);
+                let before = next.engine.state().clone();
+                let mut change = next.engine.handle_timeout(now);
+                if self.fault == Some(EngineFault::ChangeUnhinted) {
+                    change.publish = false;
+                }
+                unhinted(&mut next, &before, change);
             }
             EngineAction::Publish => {
                 next.engine.poll_publication(now)?;
@@ -513,7 +530,7 @@ impl Model for EngineModel {
                     START
                 };
                 let request = report(self.reporter.1, id, safe, start);
-                let reply = self.handle(&mut next.engine, Request::Sync(request), now);
+                let reply = self.handle(&mut next, Request::Sync(request), now);
                 let Reply::Sync(response) = reply else {
                     return None;
                 };
@@ -530,7 +547,7 @@ impl Model for EngineModel {
                     statuses: Vec::new(),
                     ..report(self.reporter.1, id, false, START)
                 };
-                let reply = self.handle(&mut next.engine, Request::Sync(request), now);
+                let reply = self.handle(&mut next, Request::Sync(request), now);
                 let Reply::Sync(response) = reply else {
                     return None;
                 };
@@ -597,10 +614,21 @@ impl EngineModel {
         request: wire::Request,
         input: &Input,
     ) -> bool {
-        let reply = self.handle(&mut next.engine, Request::Ad(request), last.now());
+        let reply = self.handle(next, Request::Ad(request), last.now());
         let expected = oracle(&last.engine, last.clock_ms, input);
         judge(next, &reply, expected.as_ref());
         reply.success()
+    }
+}
+
+/// Flags a call that changed what the streams carry ([`content`]) from what they carried of
+/// the core `before` without saying so in its `change`.
+fn unhinted(next: &mut EngineStep, before: &State, change: engine::Change) {
+    if change.revision.is_some()
+        && !change.publish
+        && content(next.engine.state()) != content(before)
+    {
+        next.broken |= broken::UNHINTED;
     }
 }
 

@@ -20,6 +20,8 @@ pub const MESSAGES: &str = "COOP-OUT-STATUS.1, COOP-OUT-ORDER.1 (engine): the st
 /// the clock runs past the time to live.
 pub(super) const STALE_WITNESS: &str =
     "witness: a scene outlives its time to live on the clock before the core is told";
+/// `COOP-ENGINE-PUBLISH.1`'s other property.
+pub const HINTED: &str = "COOP-ENGINE-PUBLISH.1: a call that changes what the streams show asks for a publication at once";
 /// `COOP-ENGINE-PUBLISH.1`'s property.
 pub const PUBLISH: &str = "COOP-ENGINE-PUBLISH.1: whenever no publication is due, the last one shows what the state shows";
 /// `COOP-ENGINE-ANSWER.1`'s property.
@@ -86,6 +88,7 @@ pub fn properties() -> Vec<Property<EngineModel>> {
         Property::always(TIME, unbroken::<{ broken::STALE_COMMAND }>),
         Property::always(LIFETIME, reported_scenes_live),
         Property::always(PUBLISH, published_shows_state),
+        Property::always(HINTED, unbroken::<{ broken::UNHINTED }>),
         Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
         Property::always(MESSAGES, messages_are_the_spec),
         Property::sometimes(STALE_WITNESS, stale_scene_awaits_tick),
