@@ -339,10 +339,8 @@ impl Node {
         let mut events = Events::with_capacity(64);
         while !stop.load(Ordering::Relaxed) {
             let now = self.clock.now();
-            let until_publication = Duration::from_millis(
-                self.shared
-                    .update(|engine| engine.until_publication_ms(now)),
-            );
+            let until_publication =
+                Duration::from_millis(self.shared.read(|engine| engine.until_publication_ms(now)));
             let timeout = if self.pending.is_empty() {
                 STOP_POLL
             } else {

@@ -224,9 +224,7 @@ impl Node {
     #[must_use]
     pub fn until_publication(&self) -> std::time::Duration {
         let now = self.clock.now();
-        let ms = self
-            .shared
-            .update(|engine| engine.until_publication_ms(now));
+        let ms = self.shared.read(|engine| engine.until_publication_ms(now));
         std::time::Duration::from_millis(ms)
     }
 

@@ -105,8 +105,8 @@ pub struct Change {
     /// The core's revision after the call, if the call changed it (a report that only renews
     /// its scene's time to live changes the core too).
     pub revision: Option<u64>,
-    /// The call changed what the streams show (a hint to poll soon: the poll decides, by
-    /// comparing what the streams show with their last publication).
+    /// The call changed what the streams show: a publication is due at once
+    /// ([`Engine::publication_due`]); poll soon.
     pub publish: bool,
 }
 
@@ -132,7 +132,7 @@ pub struct Publication {
     pub scenes: SceneArray,
 }
 
-/// The core, the RTC routes, the engine's clock and what the streams last showed.
+/// The core, the RTC routes, the engine's clock, and whether a publication is due.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub struct Engine {
     host: Host,
