@@ -1,4 +1,5 @@
-//! Hostile bytes into the ROS 2 node's services over DDS (`cooperation_ros::dds`): the first
+//! Hostile bytes into the ROS 2 node's services over DDS (`cooperation_ros::dds`, answered by
+//! the engine, `cooperation_ros::engine`): the first
 //! byte picks the endpoint (`set_commands`, `set_policies`, `get_policies`, the modules' sync)
 //! and whether the rest is the whole sample as it arrived or only the message after a valid
 //! encapsulation and request header. No request may panic; a request that reads is answered,
@@ -9,40 +10,43 @@
 
 use std::sync::OnceLock;
 
-use cooperation::State;
-use cooperation_ros::dds::{self, Endpoint, Incoming, Outgoing, RequestHeader};
-use cooperation_ros::rtc::Rtc;
+use cooperation_ros::cdr;
+use cooperation_ros::dds::{self, Endpoint, RequestHeader};
+use cooperation_ros::engine::{Engine, Now, Options, Reply, Request};
 use cooperation_ros::sync::SyncResponse;
 use cooperation_ros::wire::*;
-use cooperation_ros::{cdr, Host, Time};
 use libfuzzer_sys::fuzz_target;
 
-/// The node as it starts, with the built-in settings (read once).
-fn start() -> Host {
-    static START: OnceLock<Host> = OnceLock::new();
+/// The node's engine as it starts, with the built-in settings (read once).
+fn start() -> Engine {
+    static START: OnceLock<Engine> = OnceLock::new();
     START
         .get_or_init(|| {
             let config = cooperation_ros::settings::load(None).expect("the built-in settings");
-            Host::new(State::new(config).expect("valid"), Rtc::standard())
+            Engine::new(config, Options::default()).expect("valid")
         })
         .clone()
 }
 
 /// The reply reads back as the endpoint's response and writes the same bytes again (compared
 /// as bytes: a distance a module reported may be NaN, which equals nothing).
-fn reads_back(outgoing: &Outgoing, reply: &[u8]) {
+fn reads_back(outgoing: &Reply, reply: &[u8]) {
     fn again<T: serde::de::DeserializeOwned + serde::Serialize>(
         bytes: &[u8],
     ) -> Result<Vec<u8>, cdr::CdrError> {
         cdr::to_vec(&cdr::from_slice::<T>(bytes)?)
     }
     let written = match outgoing {
-        Outgoing::Ad(Response::SetCommands(_)) => again::<SetCooperationCommandsResponse>(reply),
-        Outgoing::Ad(Response::SetPolicies(_)) => again::<SetCooperationPoliciesResponse>(reply),
-        Outgoing::Ad(Response::GetPolicies(_)) => again::<GetCooperationPoliciesResponse>(reply),
-        Outgoing::Sync(_) => again::<SyncResponse>(reply),
+        Reply::Ad(Response::SetCommands(_)) => again::<SetCooperationCommandsResponse>(reply),
+        Reply::Ad(Response::SetPolicies(_)) => again::<SetCooperationPoliciesResponse>(reply),
+        Reply::Ad(Response::GetPolicies(_)) => again::<GetCooperationPoliciesResponse>(reply),
+        Reply::Sync(_) => again::<SyncResponse>(reply),
     };
-    assert_eq!(written.as_deref(), Ok(reply), "the reply reads back as written");
+    assert_eq!(
+        written.as_deref(),
+        Ok(reply),
+        "the reply reads back as written"
+    );
 }
 
 fuzz_target!(|data: &[u8]| {
@@ -61,28 +65,39 @@ fuzz_target!(|data: &[u8]| {
     } else {
         rest.to_vec()
     };
-    let mut host = start();
+    let mut engine = start();
     let Ok((read_header, incoming)) = endpoint.read(&framed) else {
         return;
     };
-    let malformed = matches!(incoming, Incoming::Malformed(..));
-    let before = host.clone();
-    let answered = dds::answer(&mut host, incoming, Time::default());
-    let reply = answered.outgoing.to_cdr().expect("every reply writes");
+    let malformed = matches!(incoming, Request::Malformed(..));
+    let before = engine.clone();
+    let answered = engine.handle(incoming, Now::default());
+    let reply = dds::to_cdr(&answered.reply).expect("every reply writes");
     let framed_reply = read_header.frame(&reply);
     let (echoed, body) = RequestHeader::split(&framed_reply).expect("the reply's header");
-    assert_eq!(echoed, read_header, "the reply carries the request's header");
-    reads_back(&answered.outgoing, &body);
+    assert_eq!(
+        echoed, read_header,
+        "the reply carries the request's header"
+    );
+    reads_back(&answered.reply, &body);
     // A sync that fails in part applied its other entries; one refused as a whole did nothing.
-    let refused = match &answered.outgoing {
-        Outgoing::Ad(response) => !response.status().success,
-        Outgoing::Sync(response) => !response.message.is_empty(),
+    let refused = match &answered.reply {
+        Reply::Ad(response) => !response.status().success,
+        Reply::Sync(response) => !response.message.is_empty(),
     };
+    let changed = answered.change.revision.is_some();
     let unchanged = malformed || refused || endpoint == Endpoint::Ad(Service::GetPolicies);
     if unchanged {
-        assert!(host == before, "{endpoint:?}: a refusal changed the node");
-        assert!(!answered.changed);
+        assert!(
+            engine.host() == before.host(),
+            "{endpoint:?}: a refusal changed the node"
+        );
+        assert!(!changed);
     }
-    assert_eq!(answered.changed, host != before, "changed is what happened");
-    assert_eq!(host.state().check_invariants(), Ok(()));
+    assert_eq!(
+        changed,
+        engine.host() != before.host(),
+        "changed is what happened"
+    );
+    assert_eq!(engine.state().check_invariants(), Ok(()));
 });
