@@ -53,9 +53,11 @@ struct Args {
     allow_hosts: Vec<String>,
     /// Serve the same core over DDS too, as `cooperation-ros2` does, on this ROS 2 domain: an
     /// operator's panel and ROS 2 clients then see and change the same scenes.
+    #[cfg(feature = "dds")]
     #[arg(long, value_name = "ID")]
     dds_domain: Option<u16>,
     /// With `--dds-domain`: a local address DDS may use; repeat for more (all by default).
+    #[cfg(feature = "dds")]
     #[arg(
         long = "dds-interface",
         value_name = "ADDRESS",
@@ -154,10 +156,13 @@ async fn run(args: Args) -> Result<(), String> {
         }
     );
     let node = Arc::new(node);
+    #[cfg(feature = "dds")]
     let dds = match args.dds_domain {
         Some(domain) => Some(dds_door(&node, domain, args.dds_interfaces)?),
         None => None,
     };
+    #[cfg(not(feature = "dds"))]
+    let dds: Option<DdsDoor> = None;
     let shutdown = async {
         let _ = tokio::signal::ctrl_c().await;
         tracing::info!("shutting down");
@@ -176,6 +181,7 @@ async fn run(args: Args) -> Result<(), String> {
 
 /// The DDS door: `cooperation-ros2`'s node on `node`'s engine and clock, polled by a thread of
 /// its own until the flag is set.
+#[cfg(feature = "dds")]
 fn dds_door(
     node: &cooperation_server::Node,
     domain: u16,
