@@ -14,8 +14,10 @@
 //! ([`State::apply`]) for what an operator's call should have answered at its time.
 
 mod properties;
+mod written;
 
 pub use properties::{properties, ANSWER, HINTED, LIFETIME, MESSAGES, PUBLISH, TIME};
+pub use written::written;
 
 use std::hash::{Hash, Hasher};
 
@@ -134,74 +136,6 @@ pub mod broken {
     pub const ANSWER: u8 = 2;
     /// A call changed what the streams show without asking for a publication.
     pub const UNHINTED: u8 = 4;
-}
-
-/// The factors the streams write for the engine's core as the spec's oracle reads them
-/// ([`spec::messages::Factor`]): velocity or steering, as the model's module reports.
-#[must_use]
-pub fn written(publication: &engine::Publication, steering: bool) -> Vec<spec::messages::Factor> {
-    use spec::messages::Factor;
-    let status = |status: &wire::CooperationStatus| {
-        (
-            status.uuid.uuid.clone(),
-            status.autonomous.decision,
-            status.cooperator.decision,
-            status.cancellable,
-        )
-    };
-    let factor = |distances: Vec<f32>,
-                  direction: u16,
-                  status_constant: u16,
-                  names: [&str; 3],
-                  cooperation: &[wire::CooperationStatus]| {
-        let (uuid, autonomous, cooperator, cancellable) = match cooperation {
-            [one] => status(one),
-            _ => (Vec::new(), 0, 0, false),
-        };
-        Factor {
-            uuid,
-            distances: distances.iter().map(|d| d.to_bits()).collect(),
-            direction,
-            status: status_constant,
-            behavior: names[0].to_owned(),
-            sequence: names[1].to_owned(),
-            detail: names[2].to_owned(),
-            autonomous,
-            cooperator,
-            cancellable,
-        }
-    };
-    if steering {
-        publication
-            .steering
-            .factors
-            .iter()
-            .map(|f| {
-                factor(
-                    f.distance.to_vec(),
-                    f.direction,
-                    f.status,
-                    [&f.behavior, &f.sequence, &f.detail],
-                    &f.cooperation,
-                )
-            })
-            .collect()
-    } else {
-        publication
-            .velocity
-            .factors
-            .iter()
-            .map(|f| {
-                factor(
-                    vec![f.distance],
-                    0,
-                    f.status,
-                    [&f.behavior, &f.sequence, &f.detail],
-                    &f.cooperation,
-                )
-            })
-            .collect()
-    }
 }
 
 /// A state of the engine model.
