@@ -60,6 +60,7 @@
 mod base64;
 pub mod cdr;
 pub mod clock;
+mod constant;
 pub mod dds;
 pub mod engine;
 mod host;

@@ -83,56 +83,13 @@ impl ModuleType {
     /// The current value of `Module.type`.
     #[must_use]
     pub const fn value(self) -> u8 {
-        match self {
-            Self::None => 0,
-            Self::LaneChangeLeft => 1,
-            Self::LaneChangeRight => 2,
-            Self::AvoidanceLeft => 3,
-            Self::AvoidanceRight => 4,
-            Self::GoalPlanner => 5,
-            Self::StartPlanner => 6,
-            Self::TrafficLight => 7,
-            Self::Intersection => 8,
-            Self::IntersectionOcclusion => 9,
-            Self::Crosswalk => 10,
-            Self::BlindSpot => 11,
-            Self::DetectionArea => 12,
-            Self::NoStoppingArea => 13,
-            Self::OcclusionSpot => 14,
-            Self::ExtRequestLaneChangeLeft => 15,
-            Self::ExtRequestLaneChangeRight => 16,
-            Self::AvoidanceByLcLeft => 17,
-            Self::AvoidanceByLcRight => 18,
-            Self::Roundabout => 19,
-        }
+        super::Module::of(self).r#type
     }
 
     /// The module type with this current value, if any.
     #[must_use]
     pub const fn from_value(value: u8) -> Option<Self> {
-        Some(match value {
-            0 => Self::None,
-            1 => Self::LaneChangeLeft,
-            2 => Self::LaneChangeRight,
-            3 => Self::AvoidanceLeft,
-            4 => Self::AvoidanceRight,
-            5 => Self::GoalPlanner,
-            6 => Self::StartPlanner,
-            7 => Self::TrafficLight,
-            8 => Self::Intersection,
-            9 => Self::IntersectionOcclusion,
-            10 => Self::Crosswalk,
-            11 => Self::BlindSpot,
-            12 => Self::DetectionArea,
-            13 => Self::NoStoppingArea,
-            14 => Self::OcclusionSpot,
-            15 => Self::ExtRequestLaneChangeLeft,
-            16 => Self::ExtRequestLaneChangeRight,
-            17 => Self::AvoidanceByLcLeft,
-            18 => Self::AvoidanceByLcRight,
-            19 => Self::Roundabout,
-            _ => return None,
-        })
+        super::Module::new(value).meaning()
     }
 
     /// The value in the numbering before April 2023, when `INTERSECTION_OCCLUSION` had been

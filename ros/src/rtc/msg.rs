@@ -50,220 +50,132 @@ impl From<Uuid> for SceneId {
 /// `builtin_interfaces/Time`, shared with the AD API messages.
 use crate::Time;
 
-/// `tier4_rtc_msgs/Command`: an operator's command, or a scene's command status.
-#[derive(
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    PartialOrd,
-    Ord,
-    Hash,
-    Debug,
-    Default,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(deny_unknown_fields)]
-pub struct Command {
-    /// [`DEACTIVATE`](Self::DEACTIVATE) or [`ACTIVATE`](Self::ACTIVATE).
-    #[serde(rename = "type")]
-    pub r#type: u8,
+crate::constant::constant_message! {
+    /// `tier4_rtc_msgs/Command`: an operator's command, or a scene's command status.
+    #[serde(deny_unknown_fields)]
+    pub struct Command {
+        /// [`DEACTIVATE`](Self::DEACTIVATE) or [`ACTIVATE`](Self::ACTIVATE).
+        #[serde(rename = "type")]
+        pub r#type: u8
+    }
+    meaning Decision;
+    /// Plan with priority on safety.
+    const DEACTIVATE = 0 => Decision::Deactivate;
+    /// Plan with priority on driving.
+    const ACTIVATE = 1 => Decision::Activate;
 }
 
 impl Command {
-    /// Plan with priority on safety.
-    pub const DEACTIVATE: u8 = 0;
-    /// Plan with priority on driving.
-    pub const ACTIVATE: u8 = 1;
-
-    /// The command with this `type`.
-    #[must_use]
-    pub const fn new(r#type: u8) -> Self {
-        Self { r#type }
-    }
-
     /// The decision it carries.
     ///
     /// # Errors
     /// A [`FieldError`] on `type` if it is neither constant.
     pub fn decision(&self) -> Result<Decision, FieldError> {
-        match self.r#type {
-            Self::DEACTIVATE => Ok(Decision::Deactivate),
-            Self::ACTIVATE => Ok(Decision::Activate),
-            _ => Err(FieldError::new(
-                "type",
-                self.r#type,
-                "DEACTIVATE (0) or ACTIVATE (1)",
-            )),
-        }
+        self.meaning()
+            .ok_or_else(|| FieldError::new("type", self.r#type, "DEACTIVATE (0) or ACTIVATE (1)"))
     }
 }
 
-impl From<Decision> for Command {
-    fn from(decision: Decision) -> Self {
-        Self::new(match decision {
-            Decision::Deactivate => Self::DEACTIVATE,
-            Decision::Activate => Self::ACTIVATE,
-        })
+crate::constant::constant_message! {
+    /// `tier4_rtc_msgs/State`: where a scene is in its lifecycle. Named `Lifecycle` here so
+    /// that the one `State` a reader meets is the core's.
+    #[serde(deny_unknown_fields)]
+    pub struct Lifecycle {
+        /// One of the five constants.
+        #[serde(rename = "type")]
+        pub r#type: u8
     }
-}
-
-/// `tier4_rtc_msgs/State`: where a scene is in its lifecycle. Named `Lifecycle` here so that
-/// the one `State` a reader meets is the core's.
-#[derive(
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    PartialOrd,
-    Ord,
-    Hash,
-    Debug,
-    Default,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(deny_unknown_fields)]
-pub struct Lifecycle {
-    /// One of the five constants.
-    #[serde(rename = "type")]
-    pub r#type: u8,
+    meaning Phase;
+    /// Registered, not yet executing.
+    const WAITING_FOR_EXECUTION = 0 => Phase::Waiting;
+    /// Executing.
+    const RUNNING = 1 => Phase::Running;
+    /// Being abandoned.
+    const ABORTING = 2 => Phase::Aborting;
+    /// Completed.
+    const SUCCEEDED = 3 => Phase::Succeeded;
+    /// Cancelled.
+    const FAILED = 4 => Phase::Failed;
 }
 
 impl Lifecycle {
-    /// Registered, not yet executing.
-    pub const WAITING_FOR_EXECUTION: u8 = 0;
-    /// Executing.
-    pub const RUNNING: u8 = 1;
-    /// Being abandoned.
-    pub const ABORTING: u8 = 2;
-    /// Completed.
-    pub const SUCCEEDED: u8 = 3;
-    /// Cancelled.
-    pub const FAILED: u8 = 4;
-
-    /// The lifecycle state with this `type`.
-    #[must_use]
-    pub const fn new(r#type: u8) -> Self {
-        Self { r#type }
-    }
-
     /// The phase it names.
     ///
     /// # Errors
     /// A [`FieldError`] on `type` if it is none of the five constants.
     pub fn phase(&self) -> Result<Phase, FieldError> {
-        match self.r#type {
-            Self::WAITING_FOR_EXECUTION => Ok(Phase::Waiting),
-            Self::RUNNING => Ok(Phase::Running),
-            Self::ABORTING => Ok(Phase::Aborting),
-            Self::SUCCEEDED => Ok(Phase::Succeeded),
-            Self::FAILED => Ok(Phase::Failed),
-            _ => Err(FieldError::new(
+        self.meaning().ok_or_else(|| {
+            FieldError::new(
                 "type",
                 self.r#type,
                 "WAITING_FOR_EXECUTION (0), RUNNING (1), ABORTING (2), SUCCEEDED (3) or FAILED (4)",
-            )),
-        }
-    }
-}
-
-impl From<Phase> for Lifecycle {
-    fn from(phase: Phase) -> Self {
-        Self::new(match phase {
-            Phase::Waiting => Self::WAITING_FOR_EXECUTION,
-            Phase::Running => Self::RUNNING,
-            Phase::Aborting => Self::ABORTING,
-            Phase::Succeeded => Self::SUCCEEDED,
-            Phase::Failed => Self::FAILED,
+            )
         })
     }
 }
 
-/// `tier4_rtc_msgs/Module`: which kind of module a status or command is about, in the current
-/// numbering (see [`ModuleType`] for the numbering before April 2023).
-#[derive(
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    PartialOrd,
-    Ord,
-    Hash,
-    Debug,
-    Default,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(deny_unknown_fields)]
-pub struct Module {
-    /// One of the constants.
-    #[serde(rename = "type")]
-    pub r#type: u8,
+crate::constant::constant_message! {
+    /// `tier4_rtc_msgs/Module`: which kind of module a status or command is about, in the
+    /// current numbering (see [`ModuleType`] for the numbering before April 2023). The one
+    /// table of the current numbering: [`ModuleType::value`] and [`ModuleType::from_value`]
+    /// read it.
+    #[serde(deny_unknown_fields)]
+    pub struct Module {
+        /// One of the constants.
+        #[serde(rename = "type")]
+        pub r#type: u8
+    }
+    meaning ModuleType;
+    /// No module.
+    const NONE = 0 => ModuleType::None;
+    /// Lane change to the left.
+    const LANE_CHANGE_LEFT = 1 => ModuleType::LaneChangeLeft;
+    /// Lane change to the right.
+    const LANE_CHANGE_RIGHT = 2 => ModuleType::LaneChangeRight;
+    /// Static obstacle avoidance to the left.
+    const AVOIDANCE_LEFT = 3 => ModuleType::AvoidanceLeft;
+    /// Static obstacle avoidance to the right.
+    const AVOIDANCE_RIGHT = 4 => ModuleType::AvoidanceRight;
+    /// Goal planner (formerly pull over).
+    const GOAL_PLANNER = 5 => ModuleType::GoalPlanner;
+    /// Start planner (formerly pull out).
+    const START_PLANNER = 6 => ModuleType::StartPlanner;
+    /// Traffic light, and virtual traffic light.
+    const TRAFFIC_LIGHT = 7 => ModuleType::TrafficLight;
+    /// Intersection.
+    const INTERSECTION = 8 => ModuleType::Intersection;
+    /// Intersection occlusion (inserted here in April 2023).
+    const INTERSECTION_OCCLUSION = 9 => ModuleType::IntersectionOcclusion;
+    /// Crosswalk.
+    const CROSSWALK = 10 => ModuleType::Crosswalk;
+    /// Blind spot.
+    const BLIND_SPOT = 11 => ModuleType::BlindSpot;
+    /// Detection area.
+    const DETECTION_AREA = 12 => ModuleType::DetectionArea;
+    /// No stopping area.
+    const NO_STOPPING_AREA = 13 => ModuleType::NoStoppingArea;
+    /// Occlusion spot.
+    const OCCLUSION_SPOT = 14 => ModuleType::OcclusionSpot;
+    /// Lane change to the left requested from outside.
+    const EXT_REQUEST_LANE_CHANGE_LEFT = 15 => ModuleType::ExtRequestLaneChangeLeft;
+    /// Lane change to the right requested from outside.
+    const EXT_REQUEST_LANE_CHANGE_RIGHT = 16 => ModuleType::ExtRequestLaneChangeRight;
+    /// Avoidance by a lane change to the left.
+    const AVOIDANCE_BY_LC_LEFT = 17 => ModuleType::AvoidanceByLcLeft;
+    /// Avoidance by a lane change to the right.
+    const AVOIDANCE_BY_LC_RIGHT = 18 => ModuleType::AvoidanceByLcRight;
+    /// Roundabout: unverified, see [`ModuleType::Roundabout`].
+    const ROUNDABOUT = 19 => ModuleType::Roundabout;
 }
 
 impl Module {
-    /// No module.
-    pub const NONE: u8 = 0;
-    /// Lane change to the left.
-    pub const LANE_CHANGE_LEFT: u8 = 1;
-    /// Lane change to the right.
-    pub const LANE_CHANGE_RIGHT: u8 = 2;
-    /// Static obstacle avoidance to the left.
-    pub const AVOIDANCE_LEFT: u8 = 3;
-    /// Static obstacle avoidance to the right.
-    pub const AVOIDANCE_RIGHT: u8 = 4;
-    /// Goal planner (formerly pull over).
-    pub const GOAL_PLANNER: u8 = 5;
-    /// Start planner (formerly pull out).
-    pub const START_PLANNER: u8 = 6;
-    /// Traffic light, and virtual traffic light.
-    pub const TRAFFIC_LIGHT: u8 = 7;
-    /// Intersection.
-    pub const INTERSECTION: u8 = 8;
-    /// Intersection occlusion (inserted here in April 2023).
-    pub const INTERSECTION_OCCLUSION: u8 = 9;
-    /// Crosswalk.
-    pub const CROSSWALK: u8 = 10;
-    /// Blind spot.
-    pub const BLIND_SPOT: u8 = 11;
-    /// Detection area.
-    pub const DETECTION_AREA: u8 = 12;
-    /// No stopping area.
-    pub const NO_STOPPING_AREA: u8 = 13;
-    /// Occlusion spot.
-    pub const OCCLUSION_SPOT: u8 = 14;
-    /// Lane change to the left requested from outside.
-    pub const EXT_REQUEST_LANE_CHANGE_LEFT: u8 = 15;
-    /// Lane change to the right requested from outside.
-    pub const EXT_REQUEST_LANE_CHANGE_RIGHT: u8 = 16;
-    /// Avoidance by a lane change to the left.
-    pub const AVOIDANCE_BY_LC_LEFT: u8 = 17;
-    /// Avoidance by a lane change to the right.
-    pub const AVOIDANCE_BY_LC_RIGHT: u8 = 18;
-    /// Roundabout: unverified, see [`ModuleType::Roundabout`].
-    pub const ROUNDABOUT: u8 = 19;
-
-    /// The module with this `type`.
-    #[must_use]
-    pub const fn new(r#type: u8) -> Self {
-        Self { r#type }
-    }
-
     /// The module type it names, in the current numbering.
     ///
     /// # Errors
     /// A [`FieldError`] on `type` if no module type has this value.
     pub fn module_type(&self) -> Result<ModuleType, FieldError> {
-        ModuleType::from_value(self.r#type)
+        self.meaning()
             .ok_or_else(|| FieldError::new("type", self.r#type, "a Module constant (0 to 19)"))
-    }
-}
-
-impl From<ModuleType> for Module {
-    fn from(module: ModuleType) -> Self {
-        Self::new(module.value())
     }
 }
 

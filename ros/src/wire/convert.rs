@@ -52,27 +52,21 @@ impl From<SceneId> for Uuid {
 // -------------------------------------------------------------------------------------------
 
 /// A decision number that a field does not take, as the fault it is.
-fn unaccepted_decision(value: u8, expected: &'static str) -> Malformed {
+fn unaccepted_decision(decision: CooperationDecision, expected: &'static str) -> Malformed {
     let path = FieldPath::field("decision");
-    let constant = match value {
-        CooperationDecision::UNKNOWN => "CooperationDecision.UNKNOWN",
-        CooperationDecision::DEACTIVATE => "CooperationDecision.DEACTIVATE",
-        CooperationDecision::ACTIVATE => "CooperationDecision.ACTIVATE",
-        CooperationDecision::AUTONOMOUS => "CooperationDecision.AUTONOMOUS",
-        CooperationDecision::UNDECIDED => "CooperationDecision.UNDECIDED",
-        _ => {
-            return Malformed::UndefinedConstant {
-                path,
-                constants: "CooperationDecision",
-                value: value.into(),
-            }
-        }
-    };
-    Malformed::UnacceptedConstant {
-        path,
-        constant,
-        value: value.into(),
-        expected,
+    let value = decision.decision.into();
+    match decision.constant_name() {
+        Some(constant) => Malformed::UnacceptedConstant {
+            path,
+            constant,
+            value,
+            expected,
+        },
+        None => Malformed::UndefinedConstant {
+            path,
+            constants: "CooperationDecision",
+            value,
+        },
     }
 }
 
@@ -82,13 +76,9 @@ impl TryFrom<CooperationDecision> for OperatorDecision {
     /// `DEACTIVATE`, `ACTIVATE`, `AUTONOMOUS` or `UNDECIDED` ("none"); a fault at `decision`
     /// otherwise.
     fn try_from(decision: CooperationDecision) -> Result<Self, Malformed> {
-        match decision.decision {
-            CooperationDecision::DEACTIVATE => Ok(Self::Deactivate),
-            CooperationDecision::ACTIVATE => Ok(Self::Activate),
-            CooperationDecision::AUTONOMOUS => Ok(Self::Autonomous),
-            CooperationDecision::UNDECIDED => Ok(Self::Undecided),
-            value => Err(unaccepted_decision(value, OPERATOR_DECISIONS)),
-        }
+        decision
+            .meaning()
+            .ok_or_else(|| unaccepted_decision(decision, OPERATOR_DECISIONS))
     }
 }
 
@@ -97,35 +87,20 @@ impl TryFrom<CooperationDecision> for Decision {
 
     /// `DEACTIVATE` or `ACTIVATE`; a fault at `decision` otherwise.
     fn try_from(decision: CooperationDecision) -> Result<Self, Malformed> {
-        match decision.decision {
-            CooperationDecision::DEACTIVATE => Ok(Self::Deactivate),
-            CooperationDecision::ACTIVATE => Ok(Self::Activate),
-            value => Err(unaccepted_decision(value, MODULE_DECISIONS)),
-        }
-    }
-}
-
-impl From<OperatorDecision> for CooperationDecision {
-    fn from(decision: OperatorDecision) -> Self {
-        Self {
-            decision: match decision {
-                OperatorDecision::Deactivate => Self::DEACTIVATE,
-                OperatorDecision::Activate => Self::ACTIVATE,
-                OperatorDecision::Autonomous => Self::AUTONOMOUS,
-                OperatorDecision::Undecided => Self::UNDECIDED,
-            },
+        match decision.meaning() {
+            Some(OperatorDecision::Deactivate) => Ok(Self::Deactivate),
+            Some(OperatorDecision::Activate) => Ok(Self::Activate),
+            _ => Err(unaccepted_decision(decision, MODULE_DECISIONS)),
         }
     }
 }
 
 impl From<Decision> for CooperationDecision {
     fn from(decision: Decision) -> Self {
-        Self {
-            decision: match decision {
-                Decision::Deactivate => Self::DEACTIVATE,
-                Decision::Activate => Self::ACTIVATE,
-            },
-        }
+        Self::of(match decision {
+            Decision::Deactivate => OperatorDecision::Deactivate,
+            Decision::Activate => OperatorDecision::Activate,
+        })
     }
 }
 

@@ -9,6 +9,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use cooperation::OperatorDecision;
+
 use super::uuid::bytes_or_base64;
 
 // -------------------------------------------------------------------------------------------
@@ -92,27 +94,24 @@ pub struct Uuid {
 // Cooperation
 // -------------------------------------------------------------------------------------------
 
-/// A decision (`autoware_adapi_v1_msgs/CooperationDecision`): one of the constants below.
-#[derive(
-    Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default, Serialize, Deserialize,
-)]
-#[serde(default, deny_unknown_fields)]
-pub struct CooperationDecision {
-    /// One of the constants.
-    pub decision: u8,
-}
-
-impl CooperationDecision {
+crate::constant::constant_message! {
+    /// A decision (`autoware_adapi_v1_msgs/CooperationDecision`): one of the constants below.
+    #[serde(default, deny_unknown_fields)]
+    pub struct CooperationDecision {
+        /// One of the constants.
+        pub decision: u8
+    }
+    meaning OperatorDecision;
     /// Not set. Never a valid decision.
-    pub const UNKNOWN: u8 = 0;
+    const UNKNOWN = 0;
     /// Priority on safety.
-    pub const DEACTIVATE: u8 = 1;
+    const DEACTIVATE = 1 => OperatorDecision::Deactivate;
     /// Priority on driving.
-    pub const ACTIVATE: u8 = 2;
+    const ACTIVATE = 2 => OperatorDecision::Activate;
     /// Follow the module decision (operator decisions only).
-    pub const AUTONOMOUS: u8 = 3;
+    const AUTONOMOUS = 3 => OperatorDecision::Autonomous;
     /// No operator decision: the policy applies (operator decisions only; the spec's "none").
-    pub const UNDECIDED: u8 = 4;
+    const UNDECIDED = 4 => OperatorDecision::Undecided;
 }
 
 /// A scene's cooperation status (`autoware_adapi_v1_msgs/CooperationStatus`).
