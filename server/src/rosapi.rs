@@ -23,15 +23,11 @@ pub const SERVICES: [&str; 7] = [
 /// The node's name in the ROS graph, as `rosapi/nodes` lists it.
 pub const NODE: &str = "/cooperation_server";
 
-/// Whether `given` names the `rosapi` service type `name` (`TopicType` for
-/// `/rosapi/topic_type`), in ROS 1 form (`rosapi/TopicType`) or ROS 2 form
-/// (`rosapi_msgs/srv/TopicType`); an empty or absent type is any.
+/// The type of the `rosapi` service `service`, in ROS 2 form: `rosapi_msgs/srv/TopicType` for
+/// `/rosapi/topic_type`.
 #[must_use]
-pub fn same_type(service: &str, given: &str) -> bool {
-    let camel = camel(service);
-    given.is_empty()
-        || given == format!("rosapi/{camel}")
-        || given == format!("rosapi_msgs/srv/{camel}")
+pub fn ros_type(service: &str) -> String {
+    format!("rosapi_msgs/srv/{}", camel(service))
 }
 
 /// `TopicType` for `/rosapi/topic_type`.
@@ -61,11 +57,7 @@ fn services() -> Vec<(&'static str, String)> {
     Endpoint::ALL
         .iter()
         .map(|endpoint| (endpoint.name(), endpoint.ros_type().to_owned()))
-        .chain(
-            SERVICES
-                .iter()
-                .map(|name| (*name, format!("rosapi_msgs/srv/{}", camel(name)))),
-        )
+        .chain(SERVICES.iter().map(|name| (*name, ros_type(name))))
         .collect()
 }
 

@@ -121,9 +121,14 @@ fn status(level: &'static str, msg: &str, id: Option<&RawValue>) -> String {
 }
 
 /// Whether a type a client names is `expected`, in ROS 2 form (`pkg/msg/Name`) or ROS 1 form
-/// (`pkg/Name`).
+/// (`pkg/Name`; `rosapi_msgs`'s services were in the package `rosapi` there).
 pub(crate) fn same_type(given: &str, expected: &str) -> bool {
-    given == expected || given == expected.replacen("/msg/", "/", 1).replacen("/srv/", "/", 1)
+    let ros1 = expected.replacen("/msg/", "/", 1).replacen("/srv/", "/", 1);
+    given == expected
+        || given == ros1
+        || ros1
+            .strip_prefix("rosapi_msgs/")
+            .is_some_and(|name| given.strip_prefix("rosapi/") == Some(name))
 }
 
 /// The fields of a frame that does not read as an [`Envelope`], read leniently, so that its
@@ -293,7 +298,7 @@ fn call_service(node: &Node, envelope: &Envelope<'_>, grant: &Grant) -> (Vec<Act
     };
     if rosapi::SERVICES.contains(&name) {
         let given = envelope.r#type.as_deref().unwrap_or_default();
-        if !rosapi::same_type(name, given) {
+        if !given.is_empty() && !same_type(given, &rosapi::ros_type(name)) {
             return failed(&format!("service {name:?} has no type {given:?}"));
         }
         return match rosapi::answer(name, args) {
@@ -353,4 +358,37 @@ fn respond<V: Serialize>(service: &str, id: Option<&RawValue>, values: &V) -> Ac
         result: true,
     };
     Action::Send(serde_json::to_string(&response).unwrap_or_default())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::same_type;
+    use crate::rosapi;
+
+    #[test]
+    fn a_type_is_named_in_ros_2_or_ros_1_form() {
+        let factors = "autoware_adapi_v1_msgs/msg/VelocityFactorArray";
+        assert!(same_type(factors, factors));
+        assert!(same_type(
+            "autoware_adapi_v1_msgs/VelocityFactorArray",
+            factors
+        ));
+        assert!(!same_type(
+            "autoware_adapi_v1_msgs/SteeringFactorArray",
+            factors
+        ));
+        assert!(!same_type("", factors));
+        let topic_type = rosapi::ros_type("/rosapi/topic_type");
+        assert_eq!(topic_type, "rosapi_msgs/srv/TopicType");
+        // rosapi's services were in the package `rosapi` in ROS 1, as roslibjs still names them.
+        for given in [
+            "rosapi_msgs/srv/TopicType",
+            "rosapi_msgs/TopicType",
+            "rosapi/TopicType",
+        ] {
+            assert!(same_type(given, &topic_type), "{given}");
+        }
+        assert!(!same_type("rosapi/Topics", &topic_type));
+        assert!(!same_type("rosapi/TopicType", factors));
+    }
 }
