@@ -20,6 +20,14 @@
 //! a count is never trusted beyond the bytes that remain, so a short message cannot make the
 //! reader allocate much. Nothing here panics on any input.
 //!
+//! Why this module and not the `cdr-encoding` crate (the one `rustdds` uses, so already in the
+//! lock file): that reader accepts a string without its final NUL, or with another byte in its
+//! place, logging a line and going on; it does not look for a NUL inside a string; its errors
+//! say what went wrong but not at which offset; and the encapsulation header and the bytes left
+//! over are the caller's. Bytes from any peer are refused here, each fault with its place, so the
+//! reader is written out (about 350 lines each way) and fuzzed (`fuzz/fuzz_targets/cdr_decode.rs`) rather
+//! than wrapped.
+//!
 //! ```
 //! use cooperation_ros::cdr;
 //! use cooperation_ros::wire::{CooperationDecision, CooperationCommand, SetCooperationCommandsRequest, Uuid};
