@@ -66,7 +66,7 @@ pub mod engine;
 mod host;
 mod path;
 pub mod rtc;
-#[doc = include_str!("../../docs/settings.md")]
+#[doc = include_str!("../docs/settings.md")]
 pub mod settings;
 pub mod sync;
 mod time;
@@ -79,9 +79,9 @@ pub use time::Time;
 pub mod guide {
     //! Guides for this crate's users, with examples that compile and run as doctests.
 
-    #[doc = include_str!("../../docs/rtc.md")]
+    #[doc = include_str!("../docs/rtc.md")]
     pub mod rtc {}
 
-    #[doc = include_str!("../../docs/wire.md")]
+    #[doc = include_str!("../docs/wire.md")]
     pub mod wire {}
 }

@@ -21,7 +21,7 @@ pub const NO_MAXIMUM: Limits = Limits {
 
 /// The repository's settings file (`config/cooperation.param.yaml`), built in: the settings of a
 /// node that is given no file.
-pub const BUILT_IN: &str = include_str!("../../config/cooperation.param.yaml");
+pub const BUILT_IN: &str = include_str!("../config/cooperation.param.yaml");
 
 /// The settings file at `path`, or [`BUILT_IN`] for `None`, read and parsed as [`parse`] does.
 ///
