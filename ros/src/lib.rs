@@ -70,11 +70,13 @@ pub mod rtc;
 pub mod settings;
 pub mod sync;
 mod time;
+mod uuid;
 pub mod wire;
 
 pub use host::{Host, Shared};
 pub use path::{FieldPath, PathSegment};
 pub use time::Time;
+pub use uuid::Uuid;
 
 pub mod guide {
     //! Guides for this crate's users, with examples that compile and run as doctests.

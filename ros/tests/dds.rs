@@ -183,7 +183,7 @@ fn a_malformed_request_is_refused_with_the_readers_explanation_and_changes_nothi
     let request = SetCooperationCommandsRequest {
         commands: vec![CooperationCommand {
             uuid: Uuid {
-                uuid: scene(1).uuid.to_vec(),
+                uuid: scene(1).uuid,
             },
             cooperator: CooperationDecision { decision: 99 },
         }],
@@ -273,7 +273,7 @@ fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
     let command = SetCooperationCommandsRequest {
         commands: vec![CooperationCommand {
             uuid: Uuid {
-                uuid: scene(1).uuid.to_vec(),
+                uuid: scene(1).uuid,
             },
             cooperator: CooperationDecision {
                 decision: CooperationDecision::ACTIVATE,
@@ -291,7 +291,7 @@ fn a_modules_scene_reaches_the_operator_and_takes_a_command_over_cdr() {
     // A command for a scene nobody reported is refused, and changes nothing.
     let before = host.state().clone();
     let mut unknown = command.clone();
-    unknown.commands[0].uuid.uuid = scene(7).uuid.to_vec();
+    unknown.commands[0].uuid.uuid = scene(7).uuid;
     let (response, answered): (SetCooperationCommandsResponse, _) =
         call(&mut host, Endpoint::Ad(Service::SetCommands), &unknown);
     assert!(!response.status.success && !response.status.message.is_empty());

@@ -112,7 +112,7 @@ fn command(iteration: usize) -> SetCooperationCommandsRequest {
     SetCooperationCommandsRequest {
         commands: vec![CooperationCommand {
             uuid: Uuid {
-                uuid: scene(iteration % SCENES).uuid.to_vec(),
+                uuid: scene(iteration % SCENES).uuid,
             },
             cooperator: CooperationDecision { decision },
         }],

@@ -2,7 +2,7 @@
 
 use serde::de::{self, DeserializeOwned, DeserializeSeed, Visitor};
 
-use super::{CdrError, CDR_LE, UUID_FIELD, UUID_LEN, UUID_STRUCT};
+use super::{CdrError, CDR_LE};
 
 /// A message from little-endian plain CDR, its encapsulation header first.
 ///
@@ -201,7 +201,6 @@ impl<'de> de::Deserializer<'de> for &mut Reader<'de> {
         visitor.visit_seq(Elements {
             reader: self,
             left: count,
-            uuid_at: None,
         })
     }
 
@@ -213,7 +212,6 @@ impl<'de> de::Deserializer<'de> for &mut Reader<'de> {
         visitor.visit_seq(Elements {
             reader: self,
             left: len,
-            uuid_at: None,
         })
     }
 
@@ -228,7 +226,7 @@ impl<'de> de::Deserializer<'de> for &mut Reader<'de> {
 
     fn deserialize_struct<V: Visitor<'de>>(
         self,
-        name: &'static str,
+        _: &'static str,
         fields: &'static [&'static str],
         visitor: V,
     ) -> Result<V::Value, CdrError> {
@@ -236,14 +234,9 @@ impl<'de> de::Deserializer<'de> for &mut Reader<'de> {
             // The member ROS 2 adds to an empty message.
             self.take(1)?;
         }
-        let uuid_at = (name == UUID_STRUCT)
-            .then(|| fields.iter().position(|field| *field == UUID_FIELD))
-            .flatten()
-            .map(|index| fields.len() - index);
         visitor.visit_seq(Elements {
             reader: self,
             left: fields.len(),
-            uuid_at,
         })
     }
 
@@ -274,11 +267,10 @@ impl<'de> de::Deserializer<'de> for &mut Reader<'de> {
     }
 }
 
-/// The elements of a sequence, array or struct; `uuid_at` counts down to a UUID's field.
+/// The elements of a sequence, array or struct.
 struct Elements<'a, 'de> {
     reader: &'a mut Reader<'de>,
     left: usize,
-    uuid_at: Option<usize>,
 }
 
 impl<'de> de::SeqAccess<'de> for Elements<'_, 'de> {
@@ -291,20 +283,13 @@ impl<'de> de::SeqAccess<'de> for Elements<'_, 'de> {
         if self.left == 0 {
             return Ok(None);
         }
-        let uuid = self.uuid_at == Some(self.left);
         self.left -= 1;
         // An error the element's type raises itself is placed at the element's first byte
         // (after any padding before it); the enclosing element starts where it started, or
         // here if this is its first.
         let outer = self.reader.first.take();
         let start = self.reader.pos;
-        let value = if uuid {
-            self.reader
-                .take(UUID_LEN)
-                .and_then(|bytes| seed.deserialize(UuidBytes(bytes)))
-        } else {
-            seed.deserialize(&mut *self.reader)
-        };
+        let value = seed.deserialize(&mut *self.reader);
         let first = self.reader.first.unwrap_or(start);
         self.reader.first = Some(outer.unwrap_or(first));
         value.map(Some).map_err(|error| error.placed_at(first))
@@ -312,38 +297,5 @@ impl<'de> de::SeqAccess<'de> for Elements<'_, 'de> {
 
     fn size_hint(&self) -> Option<usize> {
         Some(self.left)
-    }
-}
-
-/// A UUID's sixteen bytes, offered as bytes or as a sequence of `u8`, whichever its type asks.
-struct UuidBytes<'de>(&'de [u8]);
-
-impl<'de> de::Deserializer<'de> for UuidBytes<'de> {
-    type Error = CdrError;
-
-    fn deserialize_any<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, CdrError> {
-        visitor.visit_seq(de::value::SeqDeserializer::new(self.0.iter().copied()))
-    }
-
-    fn deserialize_bytes<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, CdrError> {
-        visitor.visit_borrowed_bytes(self.0)
-    }
-
-    fn deserialize_tuple<V: Visitor<'de>>(
-        self,
-        _: usize,
-        visitor: V,
-    ) -> Result<V::Value, CdrError> {
-        visitor.visit_seq(de::value::SeqDeserializer::new(self.0.iter().copied()))
-    }
-
-    fn deserialize_seq<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, CdrError> {
-        visitor.visit_seq(de::value::SeqDeserializer::new(self.0.iter().copied()))
-    }
-
-    serde::forward_to_deserialize_any! {
-        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
-        byte_buf option unit unit_struct newtype_struct tuple_struct
-        map struct enum identifier ignored_any
     }
 }

@@ -9,11 +9,10 @@
 //! and the NUL; a sequence (`T[]`, `T[<=N]`) is a `u32` count and its elements; a fixed array
 //! (`T[N]`, a Rust array) is its elements alone; a struct with no field (a service request
 //! with no argument) is one zero byte, the member ROS 2 adds to it. A UUID
-//! (`unique_identifier_msgs/UUID`, a struct named `Uuid` whose field is `uuid`) is its sixteen
-//! bytes, whether the Rust type holds them in a `Vec` or an array.
+//! (`unique_identifier_msgs/UUID`, a `uint8[16]`) is its sixteen bytes.
 //!
 //! Reading is strict, for bytes that come from any peer: a truncated message, a boolean that is
-//! neither 0 nor 1, a string without its final NUL, with another NUL or not UTF-8, a UUID that is not sixteen bytes, an
+//! neither 0 nor 1, a string without its final NUL, with another NUL or not UTF-8, an
 //! unknown encapsulation, and more than three bytes left over are each a [`CdrError`] naming where it happened,
 //! and so is a value its type refuses (a `nanosec` of 2e9, a name that is no sequence): at the
 //! offset where that value starts;
@@ -34,7 +33,7 @@
 //!
 //! let request = SetCooperationCommandsRequest {
 //!     commands: vec![CooperationCommand {
-//!         uuid: Uuid { uuid: (0..16).collect() },
+//!         uuid: Uuid { uuid: core::array::from_fn(|i| i as u8) },
 //!         cooperator: CooperationDecision { decision: CooperationDecision::ACTIVATE },
 //!     }],
 //! };
@@ -42,9 +41,8 @@
 //! assert_eq!(bytes.len(), 4 + 4 + 16 + 1);
 //! assert_eq!(cdr::from_slice::<SetCooperationCommandsRequest>(&bytes)?, request);
 //!
-//! // A UUID of another length has no CDR form.
-//! let short = CooperationCommand { uuid: Uuid { uuid: vec![1, 2] }, ..CooperationCommand::default() };
-//! assert!(cdr::to_vec(&short).unwrap_err().to_string().contains("16 bytes"));
+//! // Cut short, the bytes do not read.
+//! assert!(cdr::from_slice::<SetCooperationCommandsRequest>(&bytes[..20]).is_err());
 //! # Ok::<(), cdr::CdrError>(())
 //! ```
 
@@ -110,9 +108,3 @@ impl CdrError {
         }
     }
 }
-
-/// The struct and field names serde gives a UUID: its sixteen bytes have no count in CDR.
-const UUID_STRUCT: &str = "Uuid";
-const UUID_FIELD: &str = "uuid";
-/// A UUID's length.
-const UUID_LEN: usize = 16;

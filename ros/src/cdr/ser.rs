@@ -3,7 +3,7 @@
 
 use serde::ser::{self, Serialize};
 
-use super::{CdrError, CDR_LE, UUID_FIELD, UUID_LEN, UUID_STRUCT};
+use super::{CdrError, CDR_LE};
 
 /// `value` in little-endian plain CDR, its encapsulation header first.
 ///
@@ -77,16 +77,6 @@ macro_rules! refuse {
 }
 
 /// The collector's methods for anything but bytes.
-macro_rules! collect_refuse {
-    ($($method:ident($($arg:ty),*);)*) => {
-        $(
-            fn $method(self, $(_: $arg),*) -> Result<Vec<u8>, CdrError> {
-                Err(not_bytes())
-            }
-        )*
-    };
-}
-
 impl<'a> ser::Serializer for &'a mut Writer {
     type Ok = ();
     type Error = CdrError;
@@ -142,15 +132,12 @@ impl<'a> ser::Serializer for &'a mut Writer {
     fn serialize_tuple_struct(self, _: &'static str, _: usize) -> Result<Elements<'a>, CdrError> {
         Ok(Elements { writer: self })
     }
-    fn serialize_struct(self, name: &'static str, len: usize) -> Result<Fields<'a>, CdrError> {
+    fn serialize_struct(self, _: &'static str, len: usize) -> Result<Fields<'a>, CdrError> {
         if len == 0 {
             // ROS 2 gives an empty message one member, `uint8 structure_needs_at_least_one_member`.
             self.put(&[0]);
         }
-        Ok(Fields {
-            writer: self,
-            uuid: name == UUID_STRUCT,
-        })
+        Ok(Fields { writer: self })
     }
     refuse! {
         serialize_char(char) -> ();
@@ -204,10 +191,9 @@ elements!(
     SerializeTupleStruct::serialize_field
 );
 
-/// A struct's fields, in order; a UUID's bytes without a count.
+/// A struct's fields, in order.
 struct Fields<'a> {
     writer: &'a mut Writer,
-    uuid: bool,
 }
 
 impl ser::SerializeStruct for Fields<'_> {
@@ -215,144 +201,12 @@ impl ser::SerializeStruct for Fields<'_> {
     type Error = CdrError;
     fn serialize_field<T: Serialize + ?Sized>(
         &mut self,
-        key: &'static str,
+        _: &'static str,
         value: &T,
     ) -> Result<(), CdrError> {
-        if self.uuid && key == UUID_FIELD {
-            let bytes = value.serialize(Collect::default())?;
-            if bytes.len() != UUID_LEN {
-                return Err(self
-                    .writer
-                    .error(format!("a UUID is 16 bytes, not {}", bytes.len())));
-            }
-            self.writer.out.extend_from_slice(&bytes);
-            return Ok(());
-        }
         value.serialize(&mut *self.writer)
     }
     fn end(self) -> Result<(), CdrError> {
         Ok(())
-    }
-}
-
-/// Collects a UUID's bytes, held as a `Vec<u8>` or a `[u8; 16]`.
-#[derive(Default)]
-struct Collect {
-    bytes: Vec<u8>,
-}
-
-impl ser::Serializer for Collect {
-    type Ok = Vec<u8>;
-    type Error = CdrError;
-    type SerializeSeq = Self;
-    type SerializeTuple = Self;
-    type SerializeTupleStruct = ser::Impossible<Vec<u8>, CdrError>;
-    type SerializeTupleVariant = ser::Impossible<Vec<u8>, CdrError>;
-    type SerializeMap = ser::Impossible<Vec<u8>, CdrError>;
-    type SerializeStruct = ser::Impossible<Vec<u8>, CdrError>;
-    type SerializeStructVariant = ser::Impossible<Vec<u8>, CdrError>;
-
-    fn serialize_u8(self, v: u8) -> Result<Vec<u8>, CdrError> {
-        Ok(vec![v])
-    }
-    fn serialize_bytes(self, v: &[u8]) -> Result<Vec<u8>, CdrError> {
-        Ok(v.to_vec())
-    }
-    fn serialize_seq(self, _: Option<usize>) -> Result<Self, CdrError> {
-        Ok(self)
-    }
-    fn serialize_tuple(self, _: usize) -> Result<Self, CdrError> {
-        Ok(self)
-    }
-    fn serialize_newtype_struct<T: Serialize + ?Sized>(
-        self,
-        _: &'static str,
-        value: &T,
-    ) -> Result<Vec<u8>, CdrError> {
-        value.serialize(self)
-    }
-    fn serialize_some<T: Serialize + ?Sized>(self, _: &T) -> Result<Vec<u8>, CdrError> {
-        Err(not_bytes())
-    }
-    fn serialize_newtype_variant<T: Serialize + ?Sized>(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: &T,
-    ) -> Result<Vec<u8>, CdrError> {
-        Err(not_bytes())
-    }
-    collect_refuse! {
-        serialize_bool(bool); serialize_i8(i8); serialize_i16(i16); serialize_i32(i32);
-        serialize_i64(i64); serialize_u16(u16); serialize_u32(u32); serialize_u64(u64);
-        serialize_f32(f32); serialize_f64(f64); serialize_char(char); serialize_str(&str);
-        serialize_none(); serialize_unit(); serialize_unit_struct(&'static str);
-        serialize_unit_variant(&'static str, u32, &'static str);
-    }
-    fn serialize_tuple_struct(
-        self,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleStruct, CdrError> {
-        Err(not_bytes())
-    }
-    fn serialize_tuple_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleVariant, CdrError> {
-        Err(not_bytes())
-    }
-    fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, CdrError> {
-        Err(not_bytes())
-    }
-    fn serialize_struct(
-        self,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStruct, CdrError> {
-        Err(not_bytes())
-    }
-    fn serialize_struct_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStructVariant, CdrError> {
-        Err(not_bytes())
-    }
-}
-
-fn not_bytes() -> CdrError {
-    CdrError {
-        message: "a UUID's field must hold bytes".to_owned(),
-        offset: 0,
-    }
-}
-
-impl ser::SerializeSeq for Collect {
-    type Ok = Vec<u8>;
-    type Error = CdrError;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), CdrError> {
-        self.bytes.extend(value.serialize(Self::default())?);
-        Ok(())
-    }
-    fn end(self) -> Result<Vec<u8>, CdrError> {
-        Ok(self.bytes)
-    }
-}
-
-impl ser::SerializeTuple for Collect {
-    type Ok = Vec<u8>;
-    type Error = CdrError;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), CdrError> {
-        ser::SerializeSeq::serialize_element(self, value)
-    }
-    fn end(self) -> Result<Vec<u8>, CdrError> {
-        Ok(self.bytes)
     }
 }

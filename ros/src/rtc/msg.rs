@@ -11,41 +11,7 @@ use cooperation::{Decision, Phase, SceneId};
 
 use super::{FieldError, ModuleType};
 
-/// `unique_identifier_msgs/UUID`.
-#[derive(
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    PartialOrd,
-    Ord,
-    Hash,
-    Debug,
-    Default,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(deny_unknown_fields)]
-pub struct Uuid {
-    /// The 16 bytes, most significant first. In JSON an array of 16 numbers; a base64 string of
-    /// 16 bytes (rosbridge's encoding of `uint8` arrays) is accepted when reading.
-    #[serde(deserialize_with = "uuid_bytes::deserialize")]
-    pub uuid: [u8; 16],
-}
-
-impl From<SceneId> for Uuid {
-    fn from(id: SceneId) -> Self {
-        Self {
-            uuid: id.to_bytes(),
-        }
-    }
-}
-
-impl From<Uuid> for SceneId {
-    fn from(uuid: Uuid) -> Self {
-        Self::from_bytes(uuid.uuid)
-    }
-}
+pub use crate::Uuid;
 
 /// `builtin_interfaces/Time`, shared with the AD API messages.
 use crate::Time;
@@ -464,6 +430,3 @@ pub struct AutoModeWithModuleResponse {
     /// Whether it was done.
     pub success: bool,
 }
-
-/// A UUID's bytes in JSON: an array of 16 numbers, or rosbridge's base64 string.
-mod uuid_bytes;

@@ -12,7 +12,7 @@ use cooperation::{
 use super::{
     CooperationCommand, CooperationDecision, CooperationPolicy, CooperationStatus, FieldPath,
     Malformed, Point, Pose, Quaternion, SetCooperationCommandsRequest,
-    SetCooperationPoliciesRequest, SteeringFactor, SteeringFactorArray, Uuid, VelocityFactor,
+    SetCooperationPoliciesRequest, SteeringFactor, SteeringFactorArray, VelocityFactor,
     VelocityFactorArray, FRAME_ID,
 };
 
@@ -20,32 +20,6 @@ use super::{
 const OPERATOR_DECISIONS: &str = "DEACTIVATE, ACTIVATE, AUTONOMOUS or UNDECIDED";
 /// What a module decision field takes.
 const MODULE_DECISIONS: &str = "DEACTIVATE or ACTIVATE (a module decision)";
-
-// -------------------------------------------------------------------------------------------
-// Identifiers
-// -------------------------------------------------------------------------------------------
-
-impl TryFrom<&Uuid> for SceneId {
-    type Error = Malformed;
-
-    /// Exactly 16 bytes, or [`Malformed::UuidLength`] at `uuid`.
-    fn try_from(uuid: &Uuid) -> Result<Self, Malformed> {
-        <[u8; 16]>::try_from(uuid.uuid.as_slice())
-            .map(Self::from_bytes)
-            .map_err(|_| Malformed::UuidLength {
-                path: FieldPath::field("uuid"),
-                len: uuid.uuid.len(),
-            })
-    }
-}
-
-impl From<SceneId> for Uuid {
-    fn from(id: SceneId) -> Self {
-        Self {
-            uuid: id.to_bytes().to_vec(),
-        }
-    }
-}
 
 // -------------------------------------------------------------------------------------------
 // Decisions and policies
@@ -130,7 +104,7 @@ impl TryFrom<&CooperationCommand> for Command {
 
     fn try_from(command: &CooperationCommand) -> Result<Self, Malformed> {
         Ok(Self {
-            id: SceneId::try_from(&command.uuid).map_err(|e| e.in_field("uuid"))?,
+            id: SceneId::from(command.uuid),
             decision: OperatorDecision::try_from(command.cooperator)
                 .map_err(|e| e.in_field("cooperator"))?,
         })
@@ -184,7 +158,7 @@ impl TryFrom<&CooperationStatus> for cooperation::CooperationStatus {
 
     fn try_from(status: &CooperationStatus) -> Result<Self, Malformed> {
         Ok(Self {
-            id: SceneId::try_from(&status.uuid).map_err(|e| e.in_field("uuid"))?,
+            id: SceneId::from(status.uuid),
             module_decision: Decision::try_from(status.autonomous)
                 .map_err(|e| e.in_field("autonomous"))?,
             operator_decision: OperatorDecision::try_from(status.cooperator)

@@ -246,7 +246,8 @@ pub enum Malformed {
     },
     /// The JSON does not have the message's shape: a value of the wrong type, a field the
     /// message does not have or has once only, a number out of its field's range, a UUID
-    /// string that is not base64.
+    /// that is not 16 bytes (`a UUID has 16 bytes, not 15`) or a UUID string that is not
+    /// base64.
     Shape {
         /// The field at fault.
         path: FieldPath,
@@ -273,13 +274,6 @@ pub enum Malformed {
         value: u16,
         /// The constants the field takes.
         expected: &'static str,
-    },
-    /// A UUID whose byte array is not 16 long.
-    UuidLength {
-        /// The byte array.
-        path: FieldPath,
-        /// Its length.
-        len: usize,
     },
     /// A behaviour string that is neither a `PlanningBehavior` value (the empty `UNKNOWN` is
     /// refused) nor a valid user-extension name ([`cooperation::Extension`]).
@@ -336,7 +330,6 @@ macro_rules! with_path {
             | Malformed::Shape { path: $path, .. }
             | Malformed::UndefinedConstant { path: $path, .. }
             | Malformed::UnacceptedConstant { path: $path, .. }
-            | Malformed::UuidLength { path: $path, .. }
             | Malformed::InvalidBehavior { path: $path, .. }
             | Malformed::InvalidSequence { path: $path, .. }
             | Malformed::TooManyCooperation { path: $path, .. }
@@ -445,9 +438,6 @@ impl fmt::Display for Malformed {
                 f,
                 "{constant} ({value}) is not accepted here; expected {expected}"
             ),
-            Self::UuidLength { len, .. } => {
-                write!(f, "a UUID has 16 bytes, not {len}")
-            }
             Self::InvalidBehavior { given, problem, .. } => write!(
                 f,
                 "{} is no PlanningBehavior value or extension name: {problem}",

@@ -30,8 +30,8 @@
 //! form: [`wire::Pose`](Pose) is `geometry_msgs/Pose` (points and a quaternion), the core's
 //! [`Pose`](cooperation::Pose) holds the same numbers as arrays;
 //! [`wire::CooperationStatus`](CooperationStatus) is the message the core's
-//! [`CooperationStatus`](cooperation::CooperationStatus) converts to; [`wire::Uuid`](Uuid) is
-//! the ROS shape. This is on purpose: each name reads as the message definition it stands for.
+//! [`CooperationStatus`](cooperation::CooperationStatus) converts to; [`wire::Uuid`](Uuid) (the
+//! same type as [`rtc::Uuid`](crate::rtc::Uuid)) is the ROS shape. This is on purpose: each name reads as the message definition it stands for.
 //! Name them through the module (`wire::Pose`, as the example does) rather than importing
 //! `wire::*` beside `cooperation::*`.
 //!
@@ -80,7 +80,7 @@
 //! assert_eq!(factors.header.frame_id, "map");
 //! let cooperation = &factors.factors[0].cooperation[0];
 //! assert_eq!(cooperation.cooperator.decision, wire::CooperationDecision::ACTIVATE);
-//! assert_eq!(SceneId::try_from(&cooperation.uuid)?, id);
+//! assert_eq!(SceneId::from(cooperation.uuid), id);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -89,7 +89,6 @@ mod error;
 mod msg;
 mod service;
 mod status;
-mod uuid;
 
 use crate::FieldPath;
 pub use error::Malformed;

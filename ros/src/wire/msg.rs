@@ -1,7 +1,8 @@
 //! The messages, field for field and constant for constant, with the ROS shapes they contain.
 //!
 //! Every message is a plain container: any number fits a constant field, any string fits a
-//! behaviour, any length fits a UUID. Meaning is checked when a message is converted into the
+//! behaviour (a UUID is the one exception: it is 16 bytes, or it does not read). Meaning is
+//! checked when a message is converted into the
 //! core's types (`super::convert`), so that a bad value is reported with the field it sits in.
 //!
 //! Serde reads a message as rosbridge does: a missing field takes its default (zero, empty,
@@ -10,8 +11,6 @@
 use serde::{Deserialize, Serialize};
 
 use cooperation::OperatorDecision;
-
-use super::uuid::bytes_or_base64;
 
 // -------------------------------------------------------------------------------------------
 // ROS shapes
@@ -77,18 +76,7 @@ pub struct Pose {
     pub orientation: Quaternion,
 }
 
-/// A UUID (`unique_identifier_msgs/UUID`, a `uint8[16]`).
-///
-/// Written as a list of numbers, `{"uuid": [0, 1, …, 15]}`. Read from that form or from the
-/// base64 string rosbridge writes for `uint8` arrays, `{"uuid": "AAECAwQFBgcICQoLDA0ODw=="}`.
-/// Any length is held; converting into a [`SceneId`](cooperation::SceneId) requires 16 bytes.
-#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Uuid {
-    /// The bytes, most significant first.
-    #[serde(deserialize_with = "bytes_or_base64")]
-    pub uuid: Vec<u8>,
-}
+pub use crate::Uuid;
 
 // -------------------------------------------------------------------------------------------
 // Cooperation

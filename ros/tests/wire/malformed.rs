@@ -78,7 +78,7 @@ fn the_first_fault_in_batch_order_is_named() {
             {{"uuid": {{"uuid": {a}}}, "cooperator": {{"decision": 2}}}},
             {{"uuid": {{"uuid": {b}}}, "cooperator": {{"decision": 1}}}},
             {{"uuid": {{"uuid": {a}}}, "cooperator": {{"decision": 9}}}},
-            {{"uuid": {{"uuid": [1, 2]}}, "cooperator": {{"decision": 1}}}}
+            {{"uuid": {{"uuid": {b}}}, "cooperator": {{"decision": 0}}}}
         ]}}"#,
         a = list(A),
         b = list(B)
@@ -107,30 +107,38 @@ fn uuids_of_the_wrong_length_are_refused() {
     ] {
         let request = command(uuid, "1");
         let fault = command_fault(&request);
-        assert_eq!(
-            fault,
-            Malformed::UuidLength {
-                path: fault.path().clone(),
-                len
-            }
-        );
-        assert_eq!(
-            fault.to_string(),
-            format!("commands[0].uuid.uuid: a UUID has 16 bytes, not {len}")
+        assert!(matches!(fault, Malformed::Shape { .. }), "{fault:?}");
+        assert_eq!(fault.path().to_string(), "commands[0].uuid.uuid");
+        let message = fault.to_string();
+        assert!(
+            message.starts_with(&format!(
+                "commands[0].uuid.uuid: a UUID has 16 bytes, not {len} at line 1 column "
+            )),
+            "{message}"
         );
         refused(&mut state, Service::SetCommands, &request, &fault);
     }
-    // A command without a UUID: rosbridge's default is the empty array.
+    // A command without a UUID: rosbridge fills a missing `uint8[16]` with zeros, so it names
+    // the nil UUID, which no scene here has; the core refuses it as unknown.
     let missing = r#"{"commands": [{"cooperator": {"decision": 1}}]}"#;
-    assert!(matches!(
-        command_fault(missing),
-        Malformed::UuidLength { len: 0, .. }
-    ));
-    refused(
-        &mut state,
-        Service::SetCommands,
-        missing,
-        &command_fault(missing),
+    let commands = wire::from_json::<wire::SetCooperationCommandsRequest>(missing.as_bytes())
+        .expect("reads")
+        .to_commands()
+        .expect("converts");
+    assert_eq!(commands[0].id, SceneId::from_bytes([0; 16]));
+    let before = state.clone();
+    let response = json(&Service::SetCommands.call_json(&mut state, missing.as_bytes()));
+    assert_eq!(state, before);
+    assert_eq!(response["status"]["success"], false);
+    assert_eq!(
+        response["status"]["code"],
+        u64::from(wire::ResponseStatus::PARAMETER_ERROR)
+    );
+    assert!(
+        response["status"]["message"]
+            .as_str()
+            .is_some_and(|message| message.ends_with("unknown scene")),
+        "{response}"
     );
 }
 

@@ -13,7 +13,7 @@ pub fn written(publication: &engine::Publication, steering: bool) -> Vec<spec::m
     use spec::messages::Factor;
     let status = |status: &wire::CooperationStatus| {
         (
-            status.uuid.uuid.clone(),
+            status.uuid.uuid.to_vec(),
             status.autonomous.decision,
             status.cooperator.decision,
             status.cancellable,
