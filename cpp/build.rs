@@ -5,10 +5,10 @@
 fn main() {
     cxx_build::bridge("src/bridge.rs")
         .file("lib/annotate.cpp")
-        .include("..")
+        .include("include")
         .std("c++17")
         .compile("cooperation-cpp-bridge");
     println!("cargo:rerun-if-changed=src/bridge.rs");
     println!("cargo:rerun-if-changed=lib/annotate.cpp");
-    println!("cargo:rerun-if-changed=lib/annotate.hpp");
+    println!("cargo:rerun-if-changed=include/cooperation/rtc/annotate.hpp");
 }

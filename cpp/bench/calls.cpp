@@ -158,6 +158,8 @@ private:
 std::map<std::string, double> time_class(std::size_t scenes, std::size_t rounds)
 {
   cooperation::rtc::Node node("bench");
+  // Up to 1,000 scenes in one interface: no quota, as the Rust baseline's core.
+  const auto core = cooperation::rtc::core_of(&node, 0);
   RTCInterface rtc(&node, "intersection", false);
   for (std::size_t i = 0; i < scenes; ++i) {
     rtc.updateCooperateStatus(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());

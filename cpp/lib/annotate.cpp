@@ -1,7 +1,7 @@
-// See annotate.hpp. Compiled with the bridge (cpp/build.rs), so that every program linking the
+// See cooperation/rtc/annotate.hpp. Compiled with the bridge (cpp/build.rs), so that every program linking the
 // Rust library has it; ThreadSanitizer's annotations are weak symbols, present only when its
 // runtime is linked in.
-#include "cpp/lib/annotate.hpp"
+#include "cooperation/rtc/annotate.hpp"
 
 extern "C" {
 void __tsan_acquire(void * address) __attribute__((weak));

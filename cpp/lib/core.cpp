@@ -1,9 +1,7 @@
-// The node's core and its interfaces: each call converts its arguments to the bridge's types,
-// makes one bridge call, and converts the answer back. A string that is not UTF-8 (which the
-// bridge cannot carry) is refused here with a warning; nothing throws out of this file.
+// The node's core and its interfaces: each call is one bridge call, its arguments and answer
+// the bridge's own types. A string that is not UTF-8 (which the bridge cannot carry) is refused
+// here with a warning; nothing throws out of this file.
 #include "cooperation/rtc/core.hpp"
-
-#include "cooperation-cpp/src/bridge.rs.h"
 
 #include <exception>
 #include <map>
@@ -24,20 +22,6 @@ public:
 
 namespace
 {
-b::Uuid to_bridge(const Bytes & bytes)
-{
-  b::Uuid uuid{};
-  uuid.bytes = bytes;
-  return uuid;
-}
-
-b::Stamp to_bridge(Stamp stamp) { return b::Stamp{stamp.sec, stamp.nanosec}; }
-
-Result from_bridge(const b::Outcome & outcome)
-{
-  return Result{outcome.ok, std::string(outcome.warning)};
-}
-
 /// `text` as the bridge's string, or why it cannot be one.
 std::optional<rust::String> utf8(const std::string & text, std::string & why)
 {
@@ -49,10 +33,11 @@ std::optional<rust::String> utf8(const std::string & text, std::string & why)
   }
 }
 
-Result refused(std::string why) { return Result{false, std::move(why)}; }
+/// A refusal made here, before the bridge: its text is this file's own, and UTF-8.
+Result refused(const std::string & why) { return Result{false, rust::String::lossy(why)}; }
 }  // namespace
 
-std::shared_ptr<NodeCore> core_of(const void * node, std::size_t quota)
+std::shared_ptr<NodeCore> core_of(const void * node, std::optional<std::size_t> quota)
 {
   static std::mutex mutex;
   static std::map<const void *, std::weak_ptr<NodeCore>> cores;
@@ -60,9 +45,9 @@ std::shared_ptr<NodeCore> core_of(const void * node, std::size_t quota)
   if (auto core = cores[node].lock()) {
     return core;
   }
-  // The standard bindings are a valid configuration, so this does not throw; if it ever did,
+  // The built-in settings are a valid configuration, so this does not throw; if it ever did,
   // the node could not run, and its constructor is where upstream's throws too.
-  auto core = std::make_shared<NodeCore>(b::new_core(quota));
+  auto core = std::make_shared<NodeCore>(b::new_core(quota.value_or(b::default_scene_quota())));
   cores[node] = core;
   // Forget the nodes whose cores are gone.
   for (auto it = cores.begin(); it != cores.end();) {
@@ -79,7 +64,7 @@ InterfaceCore::InterfaceCore(const void * node, const std::string & name, bool e
     bound_ = refused("the interface name is not UTF-8: " + why);
     return;
   }
-  bound_ = from_bridge(b::bind(*core_->core, name_, enable_rtc));
+  bound_ = b::bind(*core_->core, name_, enable_rtc);
 }
 
 InterfaceCore::~InterfaceCore() = default;
@@ -95,7 +80,7 @@ uint8_t InterfaceCore::module_type() const
 }
 
 Result InterfaceCore::update(
-  const Bytes & uuid, bool safe, uint8_t state, double start_distance, double finish_distance,
+  const Uuid & uuid, bool safe, uint8_t state, double start_distance, double finish_distance,
   bool requested, const std::optional<std::string> & sequence)
 {
   if (!bound_.ok) {
@@ -106,40 +91,34 @@ Result InterfaceCore::update(
   if (sequence && !stated) {
     return refused("the sequence is not UTF-8: " + why);
   }
-  const b::Uuid id = to_bridge(uuid);
-  return from_bridge(b::update(
-    *core_->core, name_, id, safe, state, start_distance, finish_distance, requested,
-    stated.has_value(), stated ? rust::Str(*stated) : rust::Str()));
+  return b::update(
+    *core_->core, name_, uuid, safe, state, start_distance, finish_distance, requested,
+    stated.has_value(), stated ? rust::Str(*stated) : rust::Str());
 }
 
-Result InterfaceCore::remove(const Bytes & uuid)
+Result InterfaceCore::remove(const Uuid & uuid)
 {
   if (!bound_.ok) {
     return bound_;
   }
-  const b::Uuid id = to_bridge(uuid);
-  return from_bridge(b::remove(*core_->core, name_, id));
+  return b::remove(*core_->core, name_, uuid);
 }
 
 Result InterfaceCore::clear()
 {
-  return bound_.ok ? from_bridge(b::clear(*core_->core, name_)) : bound_;
+  return bound_.ok ? b::clear(*core_->core, name_) : bound_;
 }
 
-std::vector<Bytes> InterfaceCore::advance(Stamp now)
+std::vector<Uuid> InterfaceCore::advance(Stamp now)
 {
-  std::vector<Bytes> expired;
-  for (const auto & uuid : b::advance(*core_->core, to_bridge(now))) {
-    expired.push_back(uuid.bytes);
-  }
-  return expired;
+  const auto expired = b::advance(*core_->core, now);
+  return std::vector<Uuid>(expired.begin(), expired.end());
 }
 
 #define COOPERATION_QUERY(method)                                   \
-  bool InterfaceCore::method(const Bytes & uuid) const              \
+  bool InterfaceCore::method(const Uuid & uuid) const               \
   {                                                                 \
-    const b::Uuid id = to_bridge(uuid);                             \
-    return bound_.ok && b::method(*core_->core, name_, id);         \
+    return bound_.ok && b::method(*core_->core, name_, uuid);       \
   }
 COOPERATION_QUERY(is_registered)
 COOPERATION_QUERY(is_activated)
@@ -147,36 +126,31 @@ COOPERATION_QUERY(is_force_activated)
 COOPERATION_QUERY(is_force_deactivated)
 #undef COOPERATION_QUERY
 
-std::optional<bool> InterfaceCore::is_rtc_enabled(const Bytes & uuid) const
+std::optional<bool> InterfaceCore::is_rtc_enabled(const Uuid & uuid) const
 {
   if (!bound_.ok) {
     return std::nullopt;
   }
-  const auto flag = b::is_rtc_enabled(*core_->core, name_, to_bridge(uuid));
+  const auto flag = b::is_rtc_enabled(*core_->core, name_, uuid);
   return flag.known ? std::optional<bool>(flag.value) : std::nullopt;
 }
 
-std::optional<bool> InterfaceCore::is_terminated(const Bytes & uuid) const
+std::optional<bool> InterfaceCore::is_terminated(const Uuid & uuid) const
 {
   if (!bound_.ok) {
     return std::nullopt;
   }
-  const auto flag = b::is_terminated(*core_->core, name_, to_bridge(uuid));
+  const auto flag = b::is_terminated(*core_->core, name_, uuid);
   return flag.known ? std::optional<bool>(flag.value) : std::nullopt;
 }
 
 std::vector<Status> InterfaceCore::statuses(Stamp stamp) const
 {
-  std::vector<Status> out;
   if (!bound_.ok) {
-    return out;
+    return {};
   }
-  for (const auto & s : b::statuses(*core_->core, name_, to_bridge(stamp))) {
-    out.push_back(Status{
-      Stamp{s.stamp.sec, s.stamp.nanosec}, s.uuid.bytes, s.module, s.safe, s.requested,
-      s.command, s.state, s.auto_mode, s.start_distance, s.finish_distance});
-  }
-  return out;
+  const auto statuses = b::statuses(*core_->core, name_, stamp);
+  return std::vector<Status>(statuses.begin(), statuses.end());
 }
 
 bool InterfaceCore::auto_mode_status() const
@@ -184,22 +158,24 @@ bool InterfaceCore::auto_mode_status() const
   return bound_.ok && b::auto_mode_status(*core_->core, name_);
 }
 
-Result InterfaceCore::cooperate_commands(const std::vector<CommandIn> & commands)
+Answered InterfaceCore::cooperate_commands(const std::vector<CommandIn> & commands)
 {
-  if (!bound_.ok) {
-    return bound_;
+  std::string why;
+  if (!utf8(name_, why)) {
+    // A name the bridge cannot carry reaches no adapter: each command is refused, as the
+    // adapter refuses a batch it cannot route.
+    Answered answered{bound_, {}};
+    for (const auto & command : commands) {
+      answered.responses.push_back(CommandOut{command.uuid, command.module, false});
+    }
+    return answered;
   }
-  std::vector<b::CommandIn> in;
-  in.reserve(commands.size());
-  for (const auto & c : commands) {
-    in.push_back(b::CommandIn{to_bridge(c.uuid), c.module, c.command});
-  }
-  return from_bridge(
-    b::cooperate_commands(*core_->core, name_, rust::Slice<const b::CommandIn>(in.data(), in.size())));
+  return b::cooperate_commands(
+    *core_->core, name_, rust::Slice<const CommandIn>(commands.data(), commands.size()));
 }
 
 Result InterfaceCore::auto_mode(bool enable)
 {
-  return bound_.ok ? from_bridge(b::auto_mode(*core_->core, name_, enable)) : bound_;
+  return bound_.ok ? b::auto_mode(*core_->core, name_, enable) : bound_;
 }
 }  // namespace cooperation::rtc

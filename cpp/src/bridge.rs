@@ -83,6 +83,27 @@ pub mod ffi {
         command: u8,
     }
 
+    /// One `tier4_rtc_msgs/CooperateResponse`: the adapter's answer for one command.
+    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+    struct CommandOut {
+        /// The scene the command named.
+        uuid: Uuid,
+        /// `module.type`, as the command gave it.
+        module: u8,
+        /// Whether the command applied.
+        success: bool,
+    }
+
+    /// The `CooperateCommands` service's answer: what the call did, and the adapter's response
+    /// for each command, in request order.
+    #[derive(Clone, PartialEq, Eq, Debug)]
+    struct Answered {
+        /// What the call did.
+        outcome: Outcome,
+        /// The response's entries, as the adapter wrote them.
+        responses: Vec<CommandOut>,
+    }
+
     /// One call's cost in the benchmark's Rust baseline.
     #[derive(Clone, PartialEq, Debug)]
     struct CallCost {
@@ -96,10 +117,12 @@ pub mod ffi {
         /// One node's core: its state, RTC interfaces and clock, behind one lock.
         type Core;
 
-        /// A core with the standard interface bindings and the core's default limits, every
-        /// module's policy required until an interface says otherwise. `quota` is the most live
-        /// scenes one interface may hold (0: no quota).
+        /// A core built as every node builds its own (the built-in settings file's policies
+        /// and limits, the standard interface bindings). `quota` is the most live scenes one
+        /// interface may hold (0: no quota).
         fn new_core(quota: usize) -> Result<Box<Core>>;
+        /// The scene quota per interface every node has unless told otherwise.
+        fn default_scene_quota() -> usize;
         /// Binds the interface `name` and sets its modules' policy as upstream's `enable_rtc`
         /// constructor argument does.
         fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome;
@@ -140,8 +163,8 @@ pub mod ffi {
         fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status>;
         /// The interface's auto-mode status.
         fn auto_mode_status(core: &Core, name: &str) -> bool;
-        /// The interface's `CooperateCommands` service; every command's `success` is `ok`.
-        fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Outcome;
+        /// The interface's `CooperateCommands` service: the adapter's response, entry for entry.
+        fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Answered;
         /// The interface's `AutoMode` service.
         fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome;
 
@@ -151,7 +174,7 @@ pub mod ffi {
     }
 
     unsafe extern "C++" {
-        include!("cpp/lib/annotate.hpp");
+        include!("cooperation/rtc/annotate.hpp");
 
         /// The lock of the core at `address` was just taken (for ThreadSanitizer, which cannot
         /// see Rust's lock; a no-op otherwise).

@@ -1,14 +1,17 @@
 //! The bridge's functions: each is one call of `cooperation_ros` on a node's [`Core`], its
 //! arguments converted in and its answer converted out.
 
-use cooperation::{Config, SceneId, Sequence};
+use cooperation::{SceneId, Sequence};
 use cooperation_ros::engine::{self, Engine, Now};
 use cooperation_ros::rtc::{
-    self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, Rtc, RtcError, StatusReport,
+    self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, CooperateCommandsResponse,
+    RtcError, StatusReport,
 };
 use cooperation_ros::{Host, Shared, Time};
 
-use crate::bridge::ffi::{self, CommandIn, Flag, Outcome, Stamp, Status, Uuid};
+use crate::bridge::ffi::{
+    self, Answered, CommandIn, CommandOut, Flag, Outcome, Stamp, Status, Uuid,
+};
 
 /// One node's core: the service engine (the state, the RTC interfaces' routing and the clock
 /// the core was last told of) behind one lock ([`Shared`]), shared by every interface of the
@@ -19,19 +22,22 @@ pub struct Core {
 }
 
 impl Core {
-    /// A core with the standard bindings (each module's policy required), the core's default
-    /// limits and, if `quota` is not 0, that scene quota per interface.
+    /// A core built as every node builds its own: the built-in settings file's policies and
+    /// limits (`cooperation_ros::settings::BUILT_IN`), the standard bindings, the engine's
+    /// default options, and `quota` live scenes per interface (0: no quota; the nodes' default
+    /// is [`default_scene_quota`]).
     ///
     /// # Errors
-    /// The core's refusal of the configuration.
-    pub fn new(quota: usize) -> Result<Self, cooperation::ConfigError> {
-        let config = Config::new(Rtc::standard().policies(true));
+    /// The settings' or the core's refusal of the configuration (the built-in file is valid, so
+    /// neither happens).
+    pub fn new(quota: usize) -> Result<Self, String> {
+        let config = cooperation_ros::settings::load(None)?;
         let options = engine::Options {
             scene_quota: quota,
             ..engine::Options::default()
         };
         Ok(Self {
-            shared: Shared::new(Engine::new(config, options)?),
+            shared: Shared::new(Engine::new(config, options).map_err(|e| e.to_string())?),
         })
     }
 
@@ -64,8 +70,13 @@ impl Core {
     }
 }
 
-pub(crate) fn new_core(quota: usize) -> Result<Box<Core>, cooperation::ConfigError> {
+pub(crate) fn new_core(quota: usize) -> Result<Box<Core>, String> {
     Core::new(quota).map(Box::new)
+}
+
+/// The scene quota per interface a node has unless told otherwise, the same for every host.
+pub(crate) fn default_scene_quota() -> usize {
+    engine::Options::default().scene_quota
 }
 
 fn outcome<T>(result: Result<T, RtcError>) -> Outcome {
@@ -290,7 +301,7 @@ pub(crate) fn auto_mode_status(core: &Core, name: &str) -> bool {
     view(core, name, |view| view.auto_mode_status().is_auto_mode).unwrap_or(false)
 }
 
-pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Outcome {
+pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Answered {
     let request = CooperateCommandsRequest {
         stamp: Time::default(),
         commands: commands
@@ -304,16 +315,32 @@ pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]
             })
             .collect(),
     };
-    core.change(|engine| {
-        outcome(
-            engine
-                .call(|host| {
-                    host.interface(name)
-                        .and_then(|mut interface| interface.cooperate_commands(&request).result)
-                })
-                .0,
-        )
-    })
+    // The adapter's response; an interface that is not there refuses every command.
+    let mut response = CooperateCommandsResponse::answering(&request, false);
+    let result = core.change(|engine| {
+        engine
+            .call(|host| {
+                let reply = host.interface(name)?.cooperate_commands(&request);
+                response = reply.response;
+                reply.result
+            })
+            .0
+    });
+    // What the adapter answered, entry for entry.
+    Answered {
+        outcome: outcome(result),
+        responses: response
+            .responses
+            .iter()
+            .map(|answer| CommandOut {
+                uuid: Uuid {
+                    bytes: answer.uuid.uuid,
+                },
+                module: answer.module.r#type,
+                success: answer.success,
+            })
+            .collect(),
+    }
 }
 
 pub(crate) fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome {

@@ -246,6 +246,21 @@ void a_quota_per_interface()
         "the second scene is over the quota [COOP-DEV-QUOTA.1]");
   CHECK(log.warned("the most it may have"), "and the refusal says so");
 }
+void the_nodes_default_quota()
+{
+  // Without a quota of its own, the core has the nodes' default: 256 live scenes an interface.
+  Node node("planner");
+  check::Log log(node);
+  RTCInterface rtc(&node, "crosswalk", true);
+  for (unsigned n = 0; n < 256; ++n) {
+    rtc.updateCooperateStatus(check::uuid(n), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
+  }
+  CHECK(rtc.isRegistered(check::uuid(0)) && rtc.isRegistered(check::uuid(255)), "256 scenes register");
+  CHECK(!log.warned("the most it may have"), "with no refusal");
+  rtc.updateCooperateStatus(check::uuid(256), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
+  CHECK(!rtc.isRegistered(check::uuid(256)) && log.warned("the most it may have"),
+        "the 257th is over the default quota [COOP-DEV-QUOTA.1]");
+}
 }  // namespace
 
 int main()
@@ -257,5 +272,6 @@ int main()
   hostile_arguments();
   sequences();
   a_quota_per_interface();
+  the_nodes_default_quota();
   return check::report("interface");
 }

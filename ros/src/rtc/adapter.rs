@@ -11,8 +11,8 @@ use cooperation::{
 use super::binding::distances;
 use super::{
     AutoModeStatus, AutoModeStatusArray, AutoModeWithModuleRequest, AutoModeWithModuleResponse,
-    Binding, Command, CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse,
-    CooperateStatus, CooperateStatusArray, RtcError,
+    Binding, Command, CooperateCommandsRequest, CooperateCommandsResponse, CooperateStatus,
+    CooperateStatusArray, RtcError,
 };
 use crate::Time;
 
@@ -361,18 +361,8 @@ fn apply_commands(
             // [COOP-DEV-BATCH.1] [COOP-DEV-DUPLICATE.1] [COOP-DEV-STORED-COMMANDS.1]
             Ok(state.apply(&Input::SetCommands { commands })?)
         });
-    let success = result.is_ok();
-    let responses = request
-        .commands
-        .iter()
-        .map(|command| CooperateResponse {
-            uuid: command.uuid,
-            module: command.module,
-            success,
-        })
-        .collect();
     Reply {
-        response: CooperateCommandsResponse { responses },
+        response: CooperateCommandsResponse::answering(request, result.is_ok()),
         result,
     }
 }

@@ -389,6 +389,25 @@ pub struct CooperateCommandsResponse {
     pub responses: Vec<CooperateResponse>,
 }
 
+impl CooperateCommandsResponse {
+    /// The response to `request` when its batch applied (`success`) or did not: every entry
+    /// says the same (`[COOP-DEV-BATCH.1]`), naming its command's scene and module as sent.
+    #[must_use]
+    pub fn answering(request: &CooperateCommandsRequest, success: bool) -> Self {
+        Self {
+            responses: request
+                .commands
+                .iter()
+                .map(|command| CooperateResponse {
+                    uuid: command.uuid,
+                    module: command.module,
+                    success,
+                })
+                .collect(),
+        }
+    }
+}
+
 /// The request of `tier4_rtc_msgs/srv/AutoMode`.
 #[derive(
     Clone, Copy, PartialEq, Eq, Hash, Debug, Default, serde::Serialize, serde::Deserialize,

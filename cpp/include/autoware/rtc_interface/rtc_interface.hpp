@@ -60,7 +60,7 @@ namespace detail
 {
 inline cooperation::rtc::Stamp stamp_of(const builtin_interfaces::msg::Time & time)
 {
-  return {time.sec, time.nanosec};
+  return cooperation::rtc::Stamp{time.sec, time.nanosec};
 }
 inline builtin_interfaces::msg::Time time_of(cooperation::rtc::Stamp stamp)
 {
@@ -69,20 +69,22 @@ inline builtin_interfaces::msg::Time time_of(cooperation::rtc::Stamp stamp)
   time.nanosec = stamp.nanosec;
   return time;
 }
-// `UUID::uuid` is a `std::array<uint8_t, 16>`, generated or plain.
-inline cooperation::rtc::Bytes bytes_of(const UUID & uuid) { return uuid.uuid; }
-inline UUID uuid_of(const cooperation::rtc::Bytes & bytes)
+// `UUID::uuid` is a `std::array<uint8_t, 16>`, generated or plain, as the bridge's `bytes`.
+inline cooperation::rtc::Uuid id_of(const UUID & uuid) { return cooperation::rtc::Uuid{uuid.uuid}; }
+inline UUID uuid_of(const cooperation::rtc::Uuid & id)
 {
   UUID uuid;
-  uuid.uuid = bytes;
+  uuid.uuid = id.bytes;
   return uuid;
 }
+/// The explanation of a refusal, for a log line.
+inline std::string why(const cooperation::rtc::Result & result) { return std::string(result.warning); }
 /// The UUID as 32 lowercase hexadecimal digits.
-inline std::string to_string(const cooperation::rtc::Bytes & bytes)
+inline std::string to_string(const cooperation::rtc::Uuid & id)
 {
   std::string text;
   char digits[3];
-  for (const auto byte : bytes) {
+  for (const auto byte : id.bytes) {
     std::snprintf(digits, sizeof(digits), "%02x", static_cast<unsigned>(byte));
     text += digits;
   }
@@ -147,7 +149,7 @@ public:
   {
     module_.type = core_.module_type();
     if (!core_.bound().ok) {
-      detail::warn(node_->get_logger(), "RTC interface " + name + ": " + core_.bound().warning);
+      detail::warn(node_->get_logger(), "RTC interface " + name + ": " + detail::why(core_.bound()));
     }
     pub_statuses_ = node_->template create_publisher<CooperateStatusArray>(
       "/planning/cooperate_status/" + name, 1);
@@ -223,7 +225,7 @@ public:
   }
 
   /// Removes the scene; its identifier is never registered again (`[COOP-DEV-ID-REUSE.1]`).
-  void removeCooperateStatus(const UUID & uuid) { logged("remove", uuid, core_.remove(detail::bytes_of(uuid))); }
+  void removeCooperateStatus(const UUID & uuid) { logged("remove", uuid, core_.remove(detail::id_of(uuid))); }
 
   /// Tells the node's core the node's time: scenes not reported for the core's TTL (10 s by
   /// default) expire, and are logged. Every interface of the node may call it each cycle; time
@@ -240,36 +242,36 @@ public:
   {
     const auto result = core_.clear();
     if (!result.ok) {
-      detail::warn(node_->get_logger(), core_.name() + ": clear refused: " + result.warning);
+      detail::warn(node_->get_logger(), core_.name() + ": clear refused: " + detail::why(result));
     }
   }
 
   /// The core's merged decision is activate; false for a scene that is not live, as upstream.
-  bool isActivated(const UUID & uuid) const { return core_.is_activated(detail::bytes_of(uuid)); }
+  bool isActivated(const UUID & uuid) const { return core_.is_activated(detail::id_of(uuid)); }
   /// The operator activated what the module would not (`[COOP-DEV-FORCE.1]`).
   bool isForceActivated(const UUID & uuid) const
   {
-    return core_.is_force_activated(detail::bytes_of(uuid));
+    return core_.is_force_activated(detail::id_of(uuid));
   }
   /// The operator deactivated what the module would do (`[COOP-DEV-FORCE.1]`).
   bool isForceDeactivated(const UUID & uuid) const
   {
-    return core_.is_force_deactivated(detail::bytes_of(uuid));
+    return core_.is_force_deactivated(detail::id_of(uuid));
   }
   /// The scene is live and registered through this interface.
-  bool isRegistered(const UUID & uuid) const { return core_.is_registered(detail::bytes_of(uuid)); }
+  bool isRegistered(const UUID & uuid) const { return core_.is_registered(detail::id_of(uuid)); }
   /// The scene waits for the operator; false for a scene that is not live, where upstream
   /// answers its auto-mode flag (`[COOP-DEV-UNKNOWN-QUERY.1]`).
   bool isRTCEnabled(const UUID & uuid) const
   {
-    return core_.is_rtc_enabled(detail::bytes_of(uuid)).value_or(false);
+    return core_.is_rtc_enabled(detail::id_of(uuid)).value_or(false);
   }
   /// The scene succeeded or failed (it retired then, `[COOP-DEV-TERMINAL.1]`); false for one
   /// this interface never registered, where upstream answers its auto-mode flag
   /// (`[COOP-DEV-UNKNOWN-QUERY.1]`).
   bool isTerminated(const UUID & uuid) const
   {
-    return core_.is_terminated(detail::bytes_of(uuid)).value_or(false);
+    return core_.is_terminated(detail::id_of(uuid)).value_or(false);
   }
 
   /// Does nothing: commands apply at once, under the core's lock, and none is stored to apply
@@ -299,7 +301,7 @@ private:
     const uint8_t state, const double start_distance, const double finish_distance, const Time &,
     const bool requested, const std::optional<bool> & override_rtc_auto_mode)
   {
-    const auto bytes = detail::bytes_of(uuid);
+    const auto bytes = detail::id_of(uuid);
     if (
       override_rtc_auto_mode && !core_.is_registered(bytes) &&
       *override_rtc_auto_mode != core_.auto_mode_status()) {
@@ -317,8 +319,8 @@ private:
   {
     if (!result.ok) {
       detail::warn(
-        node_->get_logger(), "uuid : " + detail::to_string(detail::bytes_of(uuid)) + " " + what +
-                               " refused: " + result.warning);
+        node_->get_logger(), "uuid : " + detail::to_string(detail::id_of(uuid)) + " " + what +
+                               " refused: " + detail::why(result));
     }
   }
 
@@ -328,19 +330,22 @@ private:
   {
     std::vector<cooperation::rtc::CommandIn> commands;
     for (const auto & command : request->commands) {
-      commands.push_back({detail::bytes_of(command.uuid), command.module.type, command.command.type});
+      commands.push_back(
+        cooperation::rtc::CommandIn{detail::id_of(command.uuid), command.module.type, command.command.type});
     }
-    // [COOP-DEV-BATCH.1]: every response says whether the batch applied.
-    const auto result = core_.cooperate_commands(commands);
-    for (const auto & command : request->commands) {
+    // The adapter's response, entry for entry ([COOP-DEV-BATCH.1]: each says whether the batch
+    // applied).
+    const auto answered = core_.cooperate_commands(commands);
+    for (const auto & entry : answered.responses) {
       CooperateResponse answer;
-      answer.uuid = command.uuid;
-      answer.module = command.module;
-      answer.success = result.ok;
+      answer.uuid = detail::uuid_of(entry.uuid);
+      answer.module.type = entry.module;
+      answer.success = entry.success;
       response->responses.push_back(answer);
     }
-    if (!result.ok) {
-      detail::warn(node_->get_logger(), core_.name() + ": commands refused: " + result.warning);
+    if (!answered.outcome.ok) {
+      detail::warn(
+        node_->get_logger(), core_.name() + ": commands refused: " + detail::why(answered.outcome));
     }
   }
 
@@ -351,7 +356,7 @@ private:
     const auto result = core_.auto_mode(request->enable);
     response->success = result.ok;
     if (!result.ok) {
-      detail::warn(node_->get_logger(), core_.name() + ": auto mode refused: " + result.warning);
+      detail::warn(node_->get_logger(), core_.name() + ": auto mode refused: " + detail::why(result));
     }
   }
 

@@ -1,11 +1,14 @@
-// The verified core, one per node, as the C++ class sees it: plain C++ types in and out, no
-// ROS and no Rust types. Every call is one call of `cooperation_ros::rtc` on the node's shared
-// core, behind its one lock; nothing here decides anything. Nothing here throws, either: a
-// refusal comes back as a `Result` carrying the core's explanation.
+// The verified core, one per node, as the C++ class sees it. Every call is one call of
+// `cooperation_ros::rtc` on the node's shared core, behind its one lock; nothing here decides
+// anything. The values that cross are the bridge's own structs (`cooperation::bridge`, declared
+// once in `cpp/src/bridge.rs` and generated for C++ by cxx), so nothing is converted between
+// here and the adapter. Nothing here throws, either: a refusal comes back as a `Result`
+// carrying the core's explanation.
 #ifndef COOPERATION__RTC__CORE_HPP_
 #define COOPERATION__RTC__CORE_HPP_
 
-#include <array>
+#include "cooperation-cpp/src/bridge.rs.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -15,54 +18,30 @@
 
 namespace cooperation::rtc
 {
-/// A scene's identifier: `unique_identifier_msgs/UUID`'s 16 bytes.
-using Bytes = std::array<uint8_t, 16>;
-
+/// A scene's identifier: `unique_identifier_msgs/UUID`'s 16 bytes (`bytes`).
+using Uuid = ::cooperation::bridge::Uuid;
 /// A time: `builtin_interfaces/Time`'s fields.
-struct Stamp
-{
-  int32_t sec = 0;
-  uint32_t nanosec = 0;
-};
-
-/// What a call that changes the core did.
-struct Result
-{
-  /// It applied.
-  bool ok = true;
-  /// Why it did not: the core's explanation (empty when it applied).
-  std::string warning;
-};
-
-/// One status as `publishCooperateStatus` sends it.
-struct Status
-{
-  Stamp stamp;
-  Bytes uuid{};
-  uint8_t module = 0;
-  bool safe = false;
-  bool requested = false;
-  uint8_t command = 0;
-  uint8_t state = 0;
-  bool auto_mode = false;
-  float start_distance = 0.0F;
-  float finish_distance = 0.0F;
-};
-
+using Stamp = ::cooperation::bridge::Stamp;
+/// What a call that changes the core did: `ok`, or the core's explanation in `warning`.
+using Result = ::cooperation::bridge::Outcome;
+/// One status as `publishCooperateStatus` sends it, its constants as their numbers.
+using Status = ::cooperation::bridge::Status;
 /// One operator command of a `CooperateCommands` request.
-struct CommandIn
-{
-  Bytes uuid{};
-  uint8_t module = 0;
-  uint8_t command = 0;
-};
+using CommandIn = ::cooperation::bridge::CommandIn;
+/// One entry of a `CooperateCommands` response.
+using CommandOut = ::cooperation::bridge::CommandOut;
+/// A `CooperateCommands` call's outcome and the adapter's response entries.
+using Answered = ::cooperation::bridge::Answered;
 
 class NodeCore;
 
 /// The core of the node at `node`, shared by every interface made with the same node (made at
-/// the first request, and dropped with the last interface that holds it). `quota`, the most
-/// live scenes one interface may hold (0: none), applies when the core is made.
-std::shared_ptr<NodeCore> core_of(const void * node, std::size_t quota = 0);
+/// the first request, and dropped with the last interface that holds it), built as every node
+/// of this project builds its core: the built-in settings' policies and limits. `quota`, the
+/// most live scenes one interface may hold (0: none; by default the nodes' own default),
+/// applies when the core is made.
+std::shared_ptr<NodeCore> core_of(
+  const void * node, std::optional<std::size_t> quota = std::nullopt);
 
 /// One RTC interface of a node's core: upstream's calls, each one call on the core.
 class InterfaceCore
@@ -87,32 +66,33 @@ public:
 
   /// `updateCooperateStatus`, the scene's sequence stated when `sequence` is given.
   Result update(
-    const Bytes & uuid, bool safe, uint8_t state, double start_distance, double finish_distance,
+    const Uuid & uuid, bool safe, uint8_t state, double start_distance, double finish_distance,
     bool requested, const std::optional<std::string> & sequence = std::nullopt);
   /// `removeCooperateStatus`.
-  Result remove(const Bytes & uuid);
+  Result remove(const Uuid & uuid);
   /// `clearCooperateStatus`.
   Result clear();
   /// Tells the node's core that its clock reads `now`; the scenes that expired. Time passes once
   /// however many interfaces of the node tell it the same reading.
-  std::vector<Bytes> advance(Stamp now);
+  std::vector<Uuid> advance(Stamp now);
 
-  bool is_registered(const Bytes & uuid) const;
-  bool is_activated(const Bytes & uuid) const;
-  bool is_force_activated(const Bytes & uuid) const;
-  bool is_force_deactivated(const Bytes & uuid) const;
+  bool is_registered(const Uuid & uuid) const;
+  bool is_activated(const Uuid & uuid) const;
+  bool is_force_activated(const Uuid & uuid) const;
+  bool is_force_deactivated(const Uuid & uuid) const;
   /// No answer for a scene that is not live (`[COOP-DEV-UNKNOWN-QUERY.1]`).
-  std::optional<bool> is_rtc_enabled(const Bytes & uuid) const;
+  std::optional<bool> is_rtc_enabled(const Uuid & uuid) const;
   /// No answer for a scene this interface never registered, or that the core forgot.
-  std::optional<bool> is_terminated(const Bytes & uuid) const;
+  std::optional<bool> is_terminated(const Uuid & uuid) const;
 
   /// The interface's live scenes, in identifier order, each stamped with its last report.
   std::vector<Status> statuses(Stamp stamp) const;
   /// The interface's auto-mode status.
   bool auto_mode_status() const;
 
-  /// The interface's `CooperateCommands` service: the batch applies whole or not at all.
-  Result cooperate_commands(const std::vector<CommandIn> & commands);
+  /// The interface's `CooperateCommands` service: the batch applies whole or not at all; the
+  /// response's entries are the adapter's (for a name that is not bound, each refused).
+  Answered cooperate_commands(const std::vector<CommandIn> & commands);
   /// The interface's `AutoMode` service.
   Result auto_mode(bool enable);
 

@@ -3,8 +3,8 @@
 // allocations under that lock, by two threads, for a race. The bridge calls these just after it
 // takes the lock and just before it lets go; they do nothing unless the program is linked with
 // ThreadSanitizer's runtime.
-#ifndef COOPERATION_CPP_LIB_ANNOTATE_HPP_
-#define COOPERATION_CPP_LIB_ANNOTATE_HPP_
+#ifndef COOPERATION__RTC__ANNOTATE_HPP_
+#define COOPERATION__RTC__ANNOTATE_HPP_
 
 #include <cstddef>
 
@@ -16,4 +16,4 @@ void lock_acquired(std::size_t address);
 void lock_releasing(std::size_t address);
 }  // namespace cooperation::bridge
 
-#endif  // COOPERATION_CPP_LIB_ANNOTATE_HPP_
+#endif  // COOPERATION__RTC__ANNOTATE_HPP_
