@@ -10,7 +10,7 @@
 //! identifiers (they arrive in [`Input::Register`]), draws no random numbers and does no I/O.
 //! It holds no lock and speaks no protocol: the AD API's messages and `ResponseStatus` codes,
 //! TIER IV's RTC interface, the settings file and a lock for callers on several threads are the
-//! `cooperation-ros` crate's, the ring around this one. The model checker's hooks
+//! `cooperation-adapters` crate's, the ring around this one. The model checker's hooks
 //! (`State::relabel`, `State::with_table_layout`, `TableLayout`) are public with the
 //! `verification` feature only.
 //!

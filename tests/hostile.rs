@@ -1,7 +1,7 @@
 //! Hostile input at the core's own boundaries: identifiers as text, the serde forms of the core
 //! types (unknown fields, repeated fields, states the core cannot reach, floats JSON has no
 //! number for), and arithmetic on limits at their extremes. Each test names the class of input
-//! it refuses or survives. The adapters' forms are `ros/tests/hostile.rs`.
+//! it refuses or survives. The adapters' forms are `adapters/tests/hostile.rs`.
 
 mod common;
 

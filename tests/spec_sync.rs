@@ -39,9 +39,9 @@ fn read_dirs(dirs: &[&str]) -> String {
 
 /// The shipped code: the core and its adapters (the AD API calls and the RTC deviations are
 /// the adapters').
-const SHIPPED: [&str; 2] = ["src", "ros/src"];
+const SHIPPED: [&str; 2] = ["src", "adapters/src"];
 /// The core's tests and the adapters'.
-const TESTS: [&str; 2] = ["tests", "ros/tests"];
+const TESTS: [&str; 2] = ["tests", "adapters/tests"];
 
 fn test_name(tag: &str) -> String {
     tag.to_lowercase().replace(['-', '.'], "_")
@@ -77,7 +77,7 @@ fn every_rule_and_definition_is_tagged_in_the_code() {
     {
         assert!(
             in_code.contains(tag),
-            "{tag} is not marked `[{tag}]` anywhere in src/ or ros/src/"
+            "{tag} is not marked `[{tag}]` anywhere in src/ or adapters/src/"
         );
     }
     let defined: BTreeSet<String> = (5..=9).flat_map(|n| section_tags(&spec, n)).collect();

@@ -1,9 +1,9 @@
 """The golden CDR bytes of the messages, written by Cyclone DDS's own Python serializer
-(`cyclonedds.idl`, PyPI), for `ros/tests/cdr.rs` to compare the library's encoder with.
+(`cyclonedds.idl`, PyPI), for `adapters/tests/cdr.rs` to compare the library's encoder with.
 
 Each message is declared here as Cyclone's IDL types for the ROS 2 message (field for field,
-the ROS 2 DDS type names), a sample value is made that `ros/tests/cdr.rs` makes too, and its
-serialized bytes are written as hex to `ros/tests/data/cdr/<name>.hex`. With `--check`, the
+the ROS 2 DDS type names), a sample value is made that `adapters/tests/cdr.rs` makes too, and its
+serialized bytes are written as hex to `adapters/tests/data/cdr/<name>.hex`. With `--check`, the
 files are compared instead, and any difference fails. Run by `tools/cdr-golden`.
 """
 
@@ -211,7 +211,7 @@ class CooperateStatusArray(IdlStruct, typename=RTC.format("msg", "CooperateStatu
     statuses: sequence[CooperateStatus]
 
 
-# ---- the samples (the same values as ros/tests/cdr.rs)
+# ---- the samples (the same values as adapters/tests/cdr.rs)
 
 
 def uuid(first):
@@ -275,7 +275,7 @@ SAMPLES = {
 
 def main():
     check = "--check" in sys.argv[1:]
-    folder = Path(__file__).resolve().parent.parent / "ros" / "tests" / "data" / "cdr"
+    folder = Path(__file__).resolve().parent.parent / "adapters" / "tests" / "data" / "cdr"
     folder.mkdir(parents=True, exist_ok=True)
     differ = []
     for name, sample in SAMPLES.items():

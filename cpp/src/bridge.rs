@@ -169,7 +169,7 @@ pub mod ffi {
         fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome;
 
         /// The benchmark's Rust baseline: the same calls as the C++ class makes, through
-        /// `cooperation_ros` directly, with `scenes` live scenes, `rounds` times each.
+        /// `cooperation_adapters` directly, with `scenes` live scenes, `rounds` times each.
         fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost>;
     }
 

@@ -1,13 +1,13 @@
-//! The bridge's functions: each is one call of `cooperation_ros` on a node's [`Core`], its
+//! The bridge's functions: each is one call of `cooperation_adapters` on a node's [`Core`], its
 //! arguments converted in and its answer converted out.
 
 use cooperation::{SceneId, Sequence};
-use cooperation_ros::engine::{self, Engine, Now};
-use cooperation_ros::rtc::{
+use cooperation_adapters::engine::{self, Engine, Now};
+use cooperation_adapters::rtc::{
     self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, CooperateCommandsResponse,
     RtcError, StatusReport,
 };
-use cooperation_ros::{Host, Shared, Time};
+use cooperation_adapters::{Host, Shared, Time};
 
 use crate::bridge::ffi::{
     self, Answered, CommandIn, CommandOut, Flag, Outcome, Stamp, Status, Uuid,
@@ -23,15 +23,15 @@ pub struct Core {
 
 impl Core {
     /// A core built as every node builds its own: the built-in settings file's policies and
-    /// limits (`cooperation_ros::settings::BUILT_IN`), the standard bindings, the engine's
+    /// limits (`cooperation_adapters::settings::BUILT_IN`), the standard bindings, the engine's
     /// default options, and `quota` live scenes per interface (0: no quota; the nodes' default
-    /// is [`default_scene_quota`]).
+    /// is `default_scene_quota()`).
     ///
     /// # Errors
     /// The settings' or the core's refusal of the configuration (the built-in file is valid, so
     /// neither happens).
     pub fn new(quota: usize) -> Result<Self, String> {
-        let config = cooperation_ros::settings::load(None)?;
+        let config = cooperation_adapters::settings::load(None)?;
         let options = engine::Options {
             scene_quota: quota,
             ..engine::Options::default()

@@ -3,7 +3,7 @@
 //! Autoware's planning modules are C++ and talk to cooperation through
 //! `autoware::rtc_interface::RTCInterface`. This crate is the Rust half of a C++ library with
 //! that class's shape (`cpp/include/autoware/rtc_interface/rtc_interface.hpp`): a [`cxx`]
-//! bridge whose every function is one call of [`cooperation_ros::rtc`] on one shared core, a
+//! bridge whose every function is one call of [`cooperation_adapters::rtc`] on one shared core, a
 //! [`Core`] per node. It keeps no rule of its own: every answer is the adapter's, and so the
 //! core's. `docs/cpp.md` explains the C++ side and the migration.
 //!

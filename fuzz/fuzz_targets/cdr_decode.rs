@@ -3,9 +3,9 @@
 //! (padding is not read, so its values may differ), and what it writes is a fixpoint.
 #![no_main]
 
-use cooperation_ros::cdr;
-use cooperation_ros::rtc::CooperateStatusArray;
-use cooperation_ros::wire::*;
+use cooperation_adapters::cdr;
+use cooperation_adapters::rtc::CooperateStatusArray;
+use cooperation_adapters::wire::*;
 use libfuzzer_sys::fuzz_target;
 use serde::{de::DeserializeOwned, Serialize};
 

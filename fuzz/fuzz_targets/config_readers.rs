@@ -11,7 +11,7 @@
 //! own. An accepted record is an object, never an explicit tick, observes no scene twice, and
 //! its `config` reads the same from a file. A status reads back from its own serde form and, in
 //! the core's form, takes a replay's other scene fields without change and refuses any other
-//! field. A settings file (`cooperation_ros::settings`) that reads gives a configuration with a
+//! field. A settings file (`cooperation_adapters::settings`) that reads gives a configuration with a
 //! module that the core accepts, written back by `to_yaml` as text that reads the same; one
 //! within the trace tool's limits reads the same under them, and any other is refused there
 //! with a line and column.
@@ -22,7 +22,7 @@ use std::collections::BTreeMap;
 use cooperation::{
     Behavior, Config, ConfigError, Limits, Module, Policy, PolicySetting, Sequence, State,
 };
-use cooperation_ros::rtc::{self, policy_for_auto_mode, Binding, Kind, ModuleType, Rtc, RtcError};
+use cooperation_adapters::rtc::{self, policy_for_auto_mode, Binding, Kind, ModuleType, Rtc, RtcError};
 use cooperation_trace::{
     parse_config, parse_record, parse_status, ErrorKind, Event, Record, Replayer, MAX_LIMITS,
 };
@@ -173,7 +173,7 @@ fn check_bindings(bindings: &[Binding]) {
         Err(RtcError::UnknownInterface { .. })
     ));
     let statuses = rtc
-        .auto_mode_status_array(&state, cooperation_ros::Time::default())
+        .auto_mode_status_array(&state, cooperation_adapters::Time::default())
         .statuses;
     assert_eq!(statuses.len(), bindings.len());
 }
@@ -347,7 +347,7 @@ fuzz_target!(|data: &[u8]| {
 
 /// A settings file: read, it is a configuration the core accepts, and it round-trips.
 fn check_settings_file(text: &str) {
-    use cooperation_ros::settings;
+    use cooperation_adapters::settings;
     let within = settings::parse_within(text, &MAX_LIMITS);
     let Ok(config) = settings::parse(text) else {
         let Err(error) = within else {

@@ -1,5 +1,5 @@
-//! Hostile bytes into the ROS 2 node's services over DDS (`cooperation_ros::dds`, answered by
-//! the engine, `cooperation_ros::engine`): the first
+//! Hostile bytes into the ROS 2 node's services over DDS (`cooperation_adapters::dds`, answered by
+//! the engine, `cooperation_adapters::engine`): the first
 //! byte picks the endpoint (`set_commands`, `set_policies`, `get_policies`, the modules' sync)
 //! and whether the rest is the whole sample as it arrived or only the message after a valid
 //! encapsulation and request header. No request may panic; a request that reads is answered,
@@ -10,11 +10,11 @@
 
 use std::sync::OnceLock;
 
-use cooperation_ros::cdr;
-use cooperation_ros::dds::{self, Endpoint, RequestHeader};
-use cooperation_ros::engine::{Engine, Now, Options, Reply, Request};
-use cooperation_ros::sync::SyncResponse;
-use cooperation_ros::wire::*;
+use cooperation_adapters::cdr;
+use cooperation_adapters::dds::{self, Endpoint, RequestHeader};
+use cooperation_adapters::engine::{Engine, Now, Options, Reply, Request};
+use cooperation_adapters::sync::SyncResponse;
+use cooperation_adapters::wire::*;
 use libfuzzer_sys::fuzz_target;
 
 /// The node's engine as it starts, with the built-in settings (read once).
@@ -22,7 +22,7 @@ fn start() -> Engine {
     static START: OnceLock<Engine> = OnceLock::new();
     START
         .get_or_init(|| {
-            let config = cooperation_ros::settings::load(None).expect("the built-in settings");
+            let config = cooperation_adapters::settings::load(None).expect("the built-in settings");
             Engine::new(config, Options::default()).expect("valid")
         })
         .clone()

@@ -19,13 +19,13 @@
 use core::fmt::Debug;
 
 use cooperation::{Config, Decision, Limits, Phase, SceneId, Sequence, State};
-use cooperation_ros::rtc::{
+use cooperation_adapters::rtc::{
     self, AutoModeRequest, AutoModeResponse, AutoModeStatus, AutoModeStatusArray,
     AutoModeWithModuleRequest, AutoModeWithModuleResponse, CooperateCommand,
     CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse, CooperateStatus,
     CooperateStatusArray, FieldError, ModuleType, Rtc, RtcError, StatusReport, Uuid,
 };
-use cooperation_ros::Time;
+use cooperation_adapters::Time;
 use libfuzzer_sys::fuzz_target;
 use serde::{de::DeserializeOwned, Serialize};
 

@@ -3,7 +3,7 @@
 //! same JSON again.
 #![no_main]
 
-use cooperation_ros::wire::*;
+use cooperation_adapters::wire::*;
 use libfuzzer_sys::fuzz_target;
 use serde::{de::DeserializeOwned, Serialize};
 

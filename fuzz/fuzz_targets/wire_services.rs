@@ -9,7 +9,7 @@ use cooperation::{
     Behavior, Config, Decision, Detail, Geometry, Input, Limits, Module, Policy, Report, SceneId,
     State,
 };
-use cooperation_ros::wire::{self, ResponseStatus, Service};
+use cooperation_adapters::wire::{self, ResponseStatus, Service};
 use libfuzzer_sys::fuzz_target;
 
 fn start() -> State {

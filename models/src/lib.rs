@@ -1,8 +1,8 @@
 //! Exhaustive stateright models of the cooperation core, and the checker's runs of them.
 //!
 //! Every model's `next_state` calls the library's [`cooperation::State::apply`] (or, for the
-//! RTC model, the adapter `cooperation_ros::rtc`; for the engine model, the service engine
-//! `cooperation_ros::engine`), the code the library ships; no rule, guard or
+//! RTC model, the adapter `cooperation_adapters::rtc`; for the engine model, the service engine
+//! `cooperation_adapters::engine`), the code the library ships; no rule, guard or
 //! table of the specification is restated to move a state. The properties are stated from the
 //! specification (its tables are read from `spec/cooperation.md` itself) and named by its tags.
 //!

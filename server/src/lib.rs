@@ -2,9 +2,9 @@
 //! operator panel in a browser.
 //!
 //! One port serves a WebSocket for rosbridge clients (operators and planning modules) and,
-//! over plain HTTP, the operator panel. The service engine ([`cooperation_ros::engine`]) sits
-//! behind one lock ([`cooperation_ros::Shared`]) in a [`Node`]; the node's clock
-//! ([`cooperation_ros::clock`]) is the only place time is read. `docs/server.md` describes the
+//! over plain HTTP, the operator panel. The service engine ([`cooperation_adapters::engine`]) sits
+//! behind one lock ([`cooperation_adapters::Shared`]) in a [`Node`]; the node's clock
+//! ([`cooperation_adapters::clock`]) is the only place time is read. `docs/server.md` describes the
 //! protocol, the planning modules' service and the limits.
 
 #![deny(
@@ -22,7 +22,7 @@ pub mod node;
 mod panel;
 pub mod rosapi;
 pub mod rosbridge;
-pub use cooperation_ros::engine::scenes;
+pub use cooperation_adapters::engine::scenes;
 pub mod sync;
 
 use std::net::SocketAddr;
@@ -49,7 +49,7 @@ pub use node::{Node, Topic};
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub struct Options {
     /// The interval between periodic publications of the factors: the engine's
-    /// ([`cooperation_ros::engine::Options::publish_every_ms`]), set when the node is served.
+    /// ([`cooperation_adapters::engine::Options::publish_every_ms`]), set when the node is served.
     pub publish_every: Duration,
     /// The interval between ticks of the core's clock.
     pub tick_every: Duration,
@@ -70,7 +70,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Self {
-            publish_every: Duration::from_millis(cooperation_ros::engine::PUBLISH_EVERY_MS),
+            publish_every: Duration::from_millis(cooperation_adapters::engine::PUBLISH_EVERY_MS),
             tick_every: Duration::from_millis(100),
             max_clients: 256,
             credentials: None,

@@ -25,7 +25,7 @@ struct Args {
     settings: Option<PathBuf>,
     /// Periodic publications of the factors per second (they are also published on change);
     /// the engine's default interval unless given.
-    #[arg(long, default_value_t = cooperation_ros::engine::PUBLICATION_RATE_HZ)]
+    #[arg(long, default_value_t = cooperation_adapters::engine::PUBLICATION_RATE_HZ)]
     rate: f64,
     /// At most this many clients at once, when the node has no credentials.
     #[arg(long, default_value_t = 256)]
@@ -51,7 +51,7 @@ struct Args {
     /// repeat for more. A request naming any other host is refused (DNS rebinding).
     #[arg(long = "allow-host", value_name = "NAME")]
     allow_hosts: Vec<String>,
-    /// Serve the same core over DDS too, as `cooperation-ros2` does, on this ROS 2 domain: an
+    /// Serve the same core over DDS too, as `cooperation-dds` does, on this ROS 2 domain: an
     /// operator's panel and ROS 2 clients then see and change the same scenes.
     #[cfg(feature = "dds")]
     #[arg(long, value_name = "ID")]
@@ -102,12 +102,12 @@ async fn run(args: Args) -> Result<(), String> {
             args.rate
         ));
     }
-    let config = cooperation_ros::settings::load(args.settings.as_deref())?;
+    let config = cooperation_adapters::settings::load(args.settings.as_deref())?;
     let credentials = match &args.credentials {
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .map_err(|error| format!("{}: {error}", path.display()))?;
-            let rtc = cooperation_ros::rtc::Rtc::standard();
+            let rtc = cooperation_adapters::rtc::Rtc::standard();
             let interfaces: Vec<&str> = rtc.bindings().iter().map(|b| b.name.as_str()).collect();
             Some(
                 Credentials::parse(&text, &interfaces, args.per_credential)
@@ -179,7 +179,7 @@ async fn run(args: Args) -> Result<(), String> {
     served.and(stopped)
 }
 
-/// The DDS door: `cooperation-ros2`'s node on `node`'s engine and clock, polled by a thread of
+/// The DDS door: `cooperation-dds`'s node on `node`'s engine and clock, polled by a thread of
 /// its own until the flag is set.
 #[cfg(feature = "dds")]
 fn dds_door(
@@ -187,13 +187,13 @@ fn dds_door(
     domain: u16,
     interfaces: Vec<std::net::IpAddr>,
 ) -> Result<DdsDoor, String> {
-    let options = cooperation_ros2::Options {
+    let options = cooperation_dds::Options {
         domain,
         interfaces,
-        ..cooperation_ros2::Options::default()
+        ..cooperation_dds::Options::default()
     };
     let mut door =
-        cooperation_ros2::Node::with_shared(Arc::clone(node.shared()), *node.clock(), options)?;
+        cooperation_dds::Node::with_shared(Arc::clone(node.shared()), *node.clock(), options)?;
     tracing::info!("serving the same core on DDS domain {domain}");
     let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
     let flag = Arc::clone(&stop);

@@ -1,5 +1,5 @@
-//! The node: the service engine ([`cooperation_ros::engine`]) behind one lock
-//! ([`cooperation_ros::Shared`]), the clock it is told the time by, and the streams.
+//! The node: the service engine ([`cooperation_adapters::engine`]) behind one lock
+//! ([`cooperation_adapters::Shared`]), the clock it is told the time by, and the streams.
 //!
 //! Every service call, module sync and tick is one short critical section on that lock, and
 //! nothing else is locked: the engine decides when a publication is due and hands out its
@@ -14,14 +14,14 @@ use std::sync::Arc;
 
 use axum::extract::ws::Utf8Bytes;
 use cooperation::{Config, ConfigError};
-use cooperation_ros::engine::{self, Engine, Reply, Request};
-use cooperation_ros::wire;
-use cooperation_ros::Shared;
+use cooperation_adapters::engine::{self, Engine, Reply, Request};
+use cooperation_adapters::wire;
+use cooperation_adapters::Shared;
 use serde::Serialize;
 use tokio::sync::{watch, Notify};
 
 use crate::scenes;
-use cooperation_ros::clock::Clock;
+use cooperation_adapters::clock::Clock;
 
 /// The topics the node publishes.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -125,7 +125,7 @@ fn send_newer(topic: &watch::Sender<Publication>, publication: Publication) {
 }
 
 /// The live scenes each RTC interface may hold, unless told otherwise.
-pub use cooperation_ros::rtc::SCENE_QUOTA;
+pub use cooperation_adapters::rtc::SCENE_QUOTA;
 
 impl Node {
     /// A node over a new core with `config`, and the engine's default options
@@ -161,7 +161,7 @@ impl Node {
     }
 
     /// A node serving `shared`'s engine, read on `clock`: one door of a process whose other
-    /// doors (`cooperation-ros2`'s DDS node) serve the same engine on the same clock.
+    /// doors (`cooperation-dds`'s DDS node) serve the same engine on the same clock.
     #[must_use]
     pub fn with_shared(shared: Arc<Shared>, clock: Clock) -> Self {
         let node = Self {
@@ -252,7 +252,7 @@ impl Node {
         }
     }
 
-    /// A request, already read ([`Endpoint::read_json`](cooperation_ros::engine::Endpoint::read_json)), answered by the engine at the node's time: the
+    /// A request, already read ([`Endpoint::read_json`](cooperation_adapters::engine::Endpoint::read_json)), answered by the engine at the node's time: the
     /// reply, and the revision of the state it made if it changed what the streams show (wait
     /// for [`published`](Self::published) before answering, so that the caller's next
     /// publication shows the change). Takes the lock: call it where blocking is allowed.

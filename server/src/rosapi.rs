@@ -3,7 +3,7 @@
 //! `get_service_type`, `get_topics_for_type`, `get_services_for_type` and `get_nodes` call
 //! these. Every other `rosapi` service is refused as a service the node does not have.
 
-use cooperation_ros::engine::Endpoint;
+use cooperation_adapters::engine::Endpoint;
 use serde::Deserialize;
 use serde_json::{json, Value};
 

@@ -10,14 +10,14 @@
 
 use std::time::Duration;
 
-use cooperation_ros::engine::{Endpoint, Request};
+use cooperation_adapters::engine::{Endpoint, Request};
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
 use crate::auth::Grant;
 use crate::node::{Node, Topic};
 use crate::rosapi;
-use cooperation_ros::sync;
+use cooperation_adapters::sync;
 
 /// What the connection does after a frame.
 #[derive(Clone, PartialEq, Eq, Debug)]

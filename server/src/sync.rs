@@ -1,4 +1,4 @@
-//! The planning modules' service, `/cooperation/rtc/sync` ([`cooperation_ros::sync`]): read
+//! The planning modules' service, `/cooperation/rtc/sync` ([`cooperation_adapters::sync`]): read
 //! from JSON by [`read_json`], answered by the engine.
 
-pub use cooperation_ros::sync::*;
+pub use cooperation_adapters::sync::*;

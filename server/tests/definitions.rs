@@ -2,7 +2,7 @@
 //! node reads and writes: each message's fields are its serialized keys, and the
 //! service's request fields are those the sync reads.
 
-use cooperation_ros::rtc::Uuid;
+use cooperation_adapters::rtc::Uuid;
 use cooperation_server::scenes::{SceneArray, SceneState};
 use cooperation_server::sync::{self, Activation, SyncResponse, SyncResult};
 use serde::Serialize;

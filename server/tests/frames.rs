@@ -10,7 +10,8 @@ use serde_json::{json, Value};
 const SETTINGS: &str = include_str!("../../config/cooperation.param.yaml");
 
 fn node() -> Node {
-    let config = cooperation_ros::settings::parse(SETTINGS).expect("the default settings read");
+    let config =
+        cooperation_adapters::settings::parse(SETTINGS).expect("the default settings read");
     Node::new(config).expect("the default settings are a configuration")
 }
 

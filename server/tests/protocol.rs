@@ -415,7 +415,7 @@ async fn options_that_cannot_run_a_node_are_refused() {
         },
     ] {
         let problem = options.problem().expect("a problem");
-        let config = cooperation_ros::settings::parse(common::SETTINGS).expect("settings");
+        let config = cooperation_adapters::settings::parse(common::SETTINGS).expect("settings");
         let node = std::sync::Arc::new(cooperation_server::Node::new(config).expect("a node"));
         let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
             .await

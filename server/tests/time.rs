@@ -13,7 +13,7 @@ use serde_json::json;
 /// tick, is refused: the call tells the core the time first, and the scene has retired.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_command_after_the_time_to_live_is_refused_between_ticks() {
-    let mut config = cooperation_ros::settings::parse(SETTINGS).expect("the settings read");
+    let mut config = cooperation_adapters::settings::parse(SETTINGS).expect("the settings read");
     config.limits.ttl_ms = 200;
     let served = serve_config(
         config,

@@ -1,5 +1,5 @@
 //! Fixtures shared by the integration tests (the adapters' tests use them too:
-//! `ros/tests/common/mod.rs`).
+//! `adapters/tests/common/mod.rs`).
 
 #![allow(dead_code, unreachable_pub)]
 

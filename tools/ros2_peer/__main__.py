@@ -1,10 +1,10 @@
 """The ROS 2 side of `tools/ros2-interop`: a Cyclone DDS participant (`cyclonedds` from PyPI,
-the version of `tools/cdr-requirements.txt`) that talks to `cooperation-ros2` as ROS 2 nodes
+the version of `tools/cdr-requirements.txt`) that talks to `cooperation-dds` as ROS 2 nodes
 on `rmw_cyclonedds_cpp` do, and checks every answer and publication.
 
 It is at once an operator (the AD API cooperation services and the two factor topics), a
 planning module (`/cooperation/rtc/sync`) and a ROS graph tool (`ros_discovery_info`). The
-message types are those of `tools/cdr_golden.py`, which `ros/tests/cdr.rs` holds the node's
+message types are those of `tools/cdr_golden.py`, which `adapters/tests/cdr.rs` holds the node's
 encoder to; the sync service's types and the request/reply wrappers are declared in
 `messages.py`.
 

@@ -1,5 +1,5 @@
 """The message types the peer sends and reads: those of `tools/cdr_golden.py` (which
-`ros/tests/cdr.rs` holds the node's encoder to), imported from it, and those declared here: the
+`adapters/tests/cdr.rs` holds the node's encoder to), imported from it, and those declared here: the
 sync service's types, the request/reply wrappers as `rmw_cyclonedds_cpp` writes them, and the
 malformed requests; then the messages' constants.
 """
@@ -214,7 +214,7 @@ class SyncReply(IdlStruct, typename=SERVER.format("srv", "SyncCooperateStatus_Re
 
 
 # ---- malformed requests: the same DDS type names, bodies the node's strict CDR reader refuses
-# (ros/src/cdr/de.rs), each with a readable request header
+# (adapters/src/cdr/de.rs), each with a readable request header
 
 
 @dataclass

@@ -158,7 +158,7 @@ fn read_config(source: &Source, limit: usize) -> Result<cooperation::Config, Str
             parse_config(&read_text(path, limit)?).map_err(|error| format!("{path}: {error}"))
         }
         Source::Settings(path) => {
-            cooperation_ros::settings::parse_within(&read_text(path, limit)?, &MAX_LIMITS)
+            cooperation_adapters::settings::parse_within(&read_text(path, limit)?, &MAX_LIMITS)
                 .map_err(|error| format!("{path}: {error}"))
         }
     }

@@ -8,7 +8,7 @@ use cooperation::{
     Config, CooperationStatus, Decision, FactorKind, Input, Limits, Module, OperatorDecision,
     Phase, Policy, PolicySetting, SceneId,
 };
-use cooperation_ros::wire;
+use cooperation_adapters::wire;
 use serde::de::{self, Unexpected, Visitor};
 use serde::{Deserialize, Deserializer};
 
@@ -243,7 +243,7 @@ impl RawStatus {
                 return Err(misplaced(field, "the core's form (without `uuid`)"));
             }
         }
-        // The AD API message's fields default as `cooperation_ros::wire` reads them.
+        // The AD API message's fields default as `cooperation_adapters::wire` reads them.
         let wire = wire::CooperationStatus {
             uuid,
             autonomous: self.autonomous.unwrap_or_default(),
@@ -383,7 +383,7 @@ fn observed_statuses(raw: Vec<RawStatus>) -> Result<Vec<CooperationStatus>, Erro
 /// - the AD API message as rosbridge writes it (a status taken from a recorded factor's
 ///   `cooperation`): `{"uuid": {"uuid": [16 numbers] or "<base64>"}, "autonomous":
 ///   {"decision": 2}, "cooperator": {"decision": 4}, "cancellable": true}`, told apart by its
-///   `uuid` field and converted by `cooperation_ros::wire`.
+///   `uuid` field and converted by `cooperation_adapters::wire`.
 ///
 /// Any other field, a field given twice, and an array in place of an object are refused.
 ///

@@ -137,7 +137,7 @@ fn shown_errors_are_the_errors() {
 #[test]
 fn the_shown_settings_error_is_the_error() {
     let text = "/**:\n  ros__parameters:\n    cooperation:\n      polices:\n        lane-change: optional\n";
-    let error = cooperation_ros::settings::parse_within(text, &MAX_LIMITS).unwrap_err();
+    let error = cooperation_adapters::settings::parse_within(text, &MAX_LIMITS).unwrap_err();
     let shown = format!("error: cooperation.param.yaml: {error}\n");
     assert!(doc().contains(&shown), "{shown}");
 }

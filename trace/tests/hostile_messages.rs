@@ -491,7 +491,7 @@ fn parse_status_reads_one_status_in_either_form() {
     assert_eq!(parse_status(&core), parse_status(wire));
     let status = parse_status(wire).unwrap();
     assert_eq!(status.id, cooperation::SceneId::from_u128(1));
-    // The AD API form's fields default as `cooperation_ros::wire` reads them.
+    // The AD API form's fields default as `cooperation_adapters::wire` reads them.
     let short = wire.replace(", \"cancellable\": true", "");
     assert!(!parse_status(&short).unwrap().cancellable);
     for (text, field) in [

@@ -4,8 +4,8 @@
 //!   every reachable state; its properties are the spec's rules, tables and invariants.
 //! - [`network`]: the planner and operators with messages delayed, reordered, duplicated and
 //!   lost between them.
-//! - [`rtc`]: the RTC adapter (`cooperation_ros::rtc`) over the core, call by call.
-//! - [`engine`]: the service engine (`cooperation_ros::engine`) as a host drives it, its clock
+//! - [`rtc`]: the RTC adapter (`cooperation_adapters::rtc`) over the core, call by call.
+//! - [`engine`]: the service engine (`cooperation_adapters::engine`) as a host drives it, its clock
 //!   running between calls.
 //! - [`trivial`]: a model with no logic, for the checker's raw throughput.
 //! - [`spec`]: the spec as the properties state it, its tables read from its text and its rules

@@ -29,8 +29,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cooperation::{Command, FactorLists, Input, OperatorDecision, SceneId};
-use cooperation_ros::engine::{Endpoint, Request};
-use cooperation_ros::wire::{self, Service};
+use cooperation_adapters::engine::{Endpoint, Request};
+use cooperation_adapters::wire::{self, Service};
 use cooperation_server::{Node, Options, Topic};
 use futures_util::{SinkExt, StreamExt};
 use serde::Serialize;
@@ -415,8 +415,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let load_before = load_average();
     let began = Instant::now();
 
-    let mut config =
-        cooperation_ros::settings::parse(include_str!("../../../config/cooperation.param.yaml"))?;
+    let mut config = cooperation_adapters::settings::parse(include_str!(
+        "../../../config/cooperation.param.yaml"
+    ))?;
     config.limits.max_scenes = config.limits.max_scenes.max(SCENES);
     // Every request tells the core its time: no scene may expire during the run.
     config.limits.ttl_ms = 3_600_000;

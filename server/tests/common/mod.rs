@@ -42,7 +42,8 @@ pub async fn serve(options: Options) -> Served {
 /// Serves a node with the default settings, each RTC interface holding at most `quota` live
 /// scenes.
 pub async fn serve_quota(options: Options, quota: usize) -> Served {
-    let config = cooperation_ros::settings::parse(SETTINGS).expect("the default settings read");
+    let config =
+        cooperation_adapters::settings::parse(SETTINGS).expect("the default settings read");
     serve_config(config, options, quota).await
 }
 

@@ -1,4 +1,4 @@
-// Tells ThreadSanitizer about the core's lock. The lock is Rust's (`cooperation_ros::Shared`),
+// Tells ThreadSanitizer about the core's lock. The lock is Rust's (`cooperation_adapters::Shared`),
 // which ThreadSanitizer cannot see, so without this it would take the core's own copies and
 // allocations under that lock, by two threads, for a race. The bridge calls these just after it
 // takes the lock and just before it lets go; they do nothing unless the program is linked with

@@ -1,5 +1,5 @@
 // The verified core, one per node, as the C++ class sees it. Every call is one call of
-// `cooperation_ros::rtc` on the node's shared core, behind its one lock; nothing here decides
+// `cooperation_adapters::rtc` on the node's shared core, behind its one lock; nothing here decides
 // anything. The values that cross are the bridge's own structs (`cooperation::bridge`, declared
 // once in `cpp/src/bridge.rs` and generated for C++ by cxx), so nothing is converted between
 // here and the adapter. Nothing here throws, either: a refusal comes back as a `Result`

@@ -1,4 +1,4 @@
-//! The engine model: the service engine (`cooperation_ros::engine`) as a host drives it, with
+//! The engine model: the service engine (`cooperation_adapters::engine`) as a host drives it, with
 //! the host's clock running between calls.
 //!
 //! `next_state` makes one call of the engine the way a host does ([`EngineAction`]): a module's
@@ -25,10 +25,10 @@ use cooperation::{
     Behavior, Command, Config, Input, Limits, Module, OperatorDecision, Policy, PolicySetting,
     SceneId, State,
 };
-use cooperation_ros::engine::{self, Engine, Now, Reply, Request};
-use cooperation_ros::rtc::{self, CooperateStatus};
-use cooperation_ros::sync::{SyncRequest, SyncStatus};
-use cooperation_ros::{wire, Time};
+use cooperation_adapters::engine::{self, Engine, Now, Reply, Request};
+use cooperation_adapters::rtc::{self, CooperateStatus};
+use cooperation_adapters::sync::{SyncRequest, SyncStatus};
+use cooperation_adapters::{wire, Time};
 
 use crate::model::spec;
 use serde::{Deserialize, Serialize};

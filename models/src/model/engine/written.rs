@@ -1,8 +1,8 @@
 //! The factor messages an engine's publication carries, read back into the spec oracle's form
 //! ([`spec::messages::Factor`]) so that the engine model can compare them field by field.
 
-use cooperation_ros::engine;
-use cooperation_ros::wire;
+use cooperation_adapters::engine;
+use cooperation_adapters::wire;
 
 use crate::model::spec;
 

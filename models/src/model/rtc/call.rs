@@ -2,8 +2,8 @@
 //! once and indexed by position.
 
 use cooperation::{Module, Policy, SceneId, Sequence};
-use cooperation_ros::rtc::{self, Binding, CooperateCommand, CooperateCommandsRequest};
-use cooperation_ros::Time;
+use cooperation_adapters::rtc::{self, Binding, CooperateCommand, CooperateCommandsRequest};
+use cooperation_adapters::Time;
 use serde::{Deserialize, Serialize};
 
 use crate::model::describe::short;

@@ -11,7 +11,7 @@ use cooperation::{
     Command, Decision, Input, Module, OperatorDecision, PolicySetting, Rejection, Report, Rule,
     SceneId, State,
 };
-use cooperation_ros::rtc::{policy_for_auto_mode, Binding, Rtc};
+use cooperation_adapters::rtc::{policy_for_auto_mode, Binding, Rtc};
 use serde::{Deserialize, Serialize};
 
 use super::call::{request, Call, Order};

@@ -1,4 +1,4 @@
-//! The RTC model: the library's RTC compatibility adapter (`cooperation_ros::rtc`) over the core,
+//! The RTC model: the library's RTC compatibility adapter (`cooperation_adapters::rtc`) over the core,
 //! every interleaving of its calls over a few interfaces and scene identifiers.
 //!
 //! `next_state` makes one call of the adapter ([`RtcModel::invoke`]: `update_cooperate_status`,
@@ -30,7 +30,9 @@ mod step;
 use std::sync::Arc;
 
 use cooperation::{Config, Input, Limits, Module, PolicySetting, SceneId, State};
-use cooperation_ros::rtc::{self, AutoModeRequest, AutoModeWithModuleRequest, Binding, Rtc, View};
+use cooperation_adapters::rtc::{
+    self, AutoModeRequest, AutoModeWithModuleRequest, Binding, Rtc, View,
+};
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property};
 
@@ -374,7 +376,7 @@ impl RtcModel {
                 let reply = rtc.auto_mode_with_module(
                     core,
                     &AutoModeWithModuleRequest {
-                        module: cooperation_ros::rtc::Module::new(*module),
+                        module: cooperation_adapters::rtc::Module::new(*module),
                         enable: *enable,
                     },
                 );
@@ -439,7 +441,9 @@ impl RtcModel {
             Call::AutoModeWithModule { module, .. } => self
                 .bindings
                 .iter()
-                .filter(|b| cooperation_ros::rtc::Module::from(b.module_type).r#type == *module)
+                .filter(|b| {
+                    cooperation_adapters::rtc::Module::from(b.module_type).r#type == *module
+                })
                 .flat_map(modules_of)
                 .collect(),
             _ => Vec::new(),
@@ -460,7 +464,7 @@ impl RtcModel {
             _ => return true,
         };
         let modules = self.switched_modules(call);
-        let asked = cooperation_ros::rtc::policy_for_auto_mode(enable);
+        let asked = cooperation_adapters::rtc::policy_for_auto_mode(enable);
         let policies = to.core.policies().all(|setting| {
             let expected = if modules.contains(&setting.module) {
                 Some(asked)

@@ -4,7 +4,7 @@
 use cooperation::{
     Module, OperatorDecision, Phase, RetireReason, Rule, SceneId, Sequence, State, Transition,
 };
-use cooperation_ros::rtc::{self, CooperateResponse, Reply, RtcError};
+use cooperation_adapters::rtc::{self, CooperateResponse, Reply, RtcError};
 
 use super::call::{Call, Order, UNDEFINED_COMMAND, UNDEFINED_MODULE, UNDEFINED_STATE};
 use super::step::{Answer, Broken, Interface, Kind, Outcome, Refusal, RtcStep};

@@ -6,8 +6,8 @@
 use cooperation::{
     Decision, OperatorDecision, Phase, Policy, RetireReason, Rule, Scene, SceneId, State,
 };
-use cooperation_ros::rtc::{self, CooperateStatus, Kind as BindingKind};
-use cooperation_ros::Time;
+use cooperation_adapters::rtc::{self, CooperateStatus, Kind as BindingKind};
+use cooperation_adapters::Time;
 use stateright::Property;
 
 use super::step::{Answer, Broken, Kind, Outcome, Refusal, RtcStep};

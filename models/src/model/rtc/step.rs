@@ -5,7 +5,7 @@ use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
 use cooperation::{Retirement, Rule, Scene, SceneId, State};
-use cooperation_ros::rtc::{Rtc, RtcError};
+use cooperation_adapters::rtc::{Rtc, RtcError};
 
 use crate::model::ids::{index, MAX_SMALL_SCENES};
 

@@ -1,0 +1,356 @@
+//! The service engine: every door's request answered on one core, time first, and what the
+//! streams publish decided in one place.
+//!
+//! A host (the rosbridge node, the DDS node, the C++ class's bridge) keeps its sockets, threads,
+//! DDS entities, FFI and the clock it reads, and drives one [`Engine`] in the shape of a sans-IO
+//! connection:
+//!
+//! - [`Engine::handle`] answers a request read from any door ([`Endpoint::read_json`],
+//!   `dds::Endpoint::read`): first the core is told the time of the request ([`Now`]), so no
+//!   command applies to a scene whose time to live had passed, then the request is answered. The
+//!   answer says what it changed ([`Change`]).
+//! - [`Engine::handle_timeout`] tells the core the time between requests (scenes age out).
+//! - [`Engine::poll_publication`] hands out the streams' messages when a publication is due: at
+//!   once after a change the streams show (`[COOP-ENGINE-PUBLISH.1]`), and every
+//!   [`Options::publish_every_ms`] otherwise (so stamps and ages stay fresh).
+//!
+//! The core is built here, once, from a configuration and [`Options`] whose defaults every
+//! host shares. Nothing here restates a rule of the core: every change is an input to
+//! [`State::apply`] or [`State::apply_all`] through the adapters ([`wire`], [`sync`], [`rtc`](crate::rtc)).
+//!
+//! ```
+//! use cooperation_adapters::engine::{Endpoint, Engine, Now, Options};
+//! use cooperation_adapters::wire::Service;
+//! use cooperation_adapters::Time;
+//!
+//! let mut engine = Engine::new(cooperation_adapters::settings::load(None)?, Options::default())?;
+//! let now = Now::new(0, Time::new(100, 0));
+//! let request = Endpoint::Ad(Service::GetPolicies).read_json(b"{}");
+//! let handled = engine.handle(request, now);
+//! assert!(handled.reply.success() && handled.change.revision.is_none());
+//! // The first publication is due at once.
+//! let publication = engine.poll_publication(now).expect("due");
+//! assert_eq!(publication.velocity.header.stamp, Time::new(100, 0));
+//! assert!(engine.poll_publication(now).is_none());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod request;
+pub mod scenes;
+mod shown;
+
+pub use request::{Endpoint, Reply, Request};
+
+use cooperation::{Config, ConfigError, State, Transition};
+
+use crate::rtc::{Rtc, SCENE_QUOTA};
+use crate::wire::{self, SteeringFactorArray, VelocityFactorArray};
+use crate::{sync, Host, Time};
+use scenes::SceneArray;
+
+/// The interval of periodic publications unless a host says otherwise, in milliseconds.
+pub const PUBLISH_EVERY_MS: u64 = 100;
+/// The same interval as publications per second, as the nodes' `--rate` takes it.
+pub const PUBLICATION_RATE_HZ: f64 = 1000.0 / PUBLISH_EVERY_MS as f64;
+
+/// How the engine runs: the same defaults for every host.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct Options {
+    /// The live scenes each RTC interface may hold (`[COOP-DEV-QUOTA.1]`); 0 for no quota.
+    pub scene_quota: usize,
+    /// The interval of periodic publications, in milliseconds (at least 1).
+    pub publish_every_ms: u64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            scene_quota: SCENE_QUOTA,
+            publish_every_ms: PUBLISH_EVERY_MS,
+        }
+    }
+}
+
+/// The time of a call, as the host's clock reads it.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
+pub struct Now {
+    /// A monotonic reading in nanoseconds, from any origin (the engine takes its first reading
+    /// as its time 0). A reading earlier than the last is a clock that went back: no time
+    /// passes, so that no scene ages twice.
+    pub reading_ns: i64,
+    /// The stamp of the messages written now.
+    pub stamp: Time,
+}
+
+impl Now {
+    /// A reading and the stamp for it.
+    #[must_use]
+    pub const fn new(reading_ns: i64, stamp: Time) -> Self {
+        Self { reading_ns, stamp }
+    }
+
+    /// A ROS clock's reading (`rclcpp::Clock::now()`): the stamp is the reading.
+    #[must_use]
+    pub fn of_stamp(stamp: Time) -> Self {
+        Self {
+            reading_ns: i64::from(stamp.sec) * 1_000_000_000 + i64::from(stamp.nanosec),
+            stamp,
+        }
+    }
+}
+
+/// What a call did to the core, and whether a publication is due because of it.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
+pub struct Change {
+    /// The core's revision after the call, if the call changed it (a report that only renews
+    /// its scene's time to live changes the core too).
+    pub revision: Option<u64>,
+    /// The call changed what the streams show: a publication is due at once
+    /// ([`Engine::publication_due`]); poll soon.
+    pub publish: bool,
+}
+
+/// A request's reply and what it changed.
+#[derive(Clone, PartialEq, Debug)]
+pub struct Handled {
+    /// The reply to write.
+    pub reply: Reply,
+    /// What the call (time first, then the request) changed.
+    pub change: Change,
+}
+
+/// One publication of every stream, as the core was when it was polled.
+#[derive(Clone, PartialEq, Debug)]
+pub struct Publication {
+    /// The revision of the state it shows: a stream never goes back to an older one.
+    pub revision: u64,
+    /// `/api/planning/velocity_factors`.
+    pub velocity: VelocityFactorArray,
+    /// `/api/planning/steering_factors`.
+    pub steering: SteeringFactorArray,
+    /// `/cooperation/scenes` ([`scenes`]).
+    pub scenes: SceneArray,
+}
+
+/// The core, the RTC routes, the engine's clock, and whether a publication is due.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Engine {
+    host: Host,
+    options: Options,
+    /// The first reading, the engine's time 0.
+    origin_ns: Option<i64>,
+    /// Counts the changes made to the core.
+    revision: u64,
+    /// A change the streams show came since the last publication (or there was none yet).
+    unpublished: bool,
+    /// The engine time at which a periodic publication is due, in milliseconds.
+    next_publication_ms: u64,
+}
+
+impl Engine {
+    /// An engine over a new core with `config`, the standard RTC interfaces and `options`.
+    ///
+    /// # Errors
+    /// The core's refusal of the configuration.
+    pub fn new(config: Config, options: Options) -> Result<Self, ConfigError> {
+        State::new(config).map(|state| Self::from_state(state, options))
+    }
+
+    /// An engine over `state` (a core a planner built and fed itself), the standard RTC
+    /// interfaces and `options`.
+    #[must_use]
+    pub fn from_state(state: State, options: Options) -> Self {
+        let mut rtc = Rtc::standard();
+        if options.scene_quota > 0 {
+            rtc = rtc.with_scene_quota(options.scene_quota);
+        }
+        Self {
+            host: Host::new(state, rtc),
+            options,
+            origin_ns: None,
+            revision: 0,
+            unpublished: true,
+            next_publication_ms: 0,
+        }
+    }
+
+    /// The core, to query.
+    #[must_use]
+    pub const fn state(&self) -> &State {
+        self.host.state()
+    }
+
+    /// The core with its RTC routes, to query.
+    #[must_use]
+    pub const fn host(&self) -> &Host {
+        &self.host
+    }
+
+    /// The engine's options.
+    #[must_use]
+    pub const fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// Sets the interval of periodic publications ([`Options::publish_every_ms`]), from the next
+    /// publication on.
+    pub fn set_publish_every_ms(&mut self, every_ms: u64) {
+        self.options.publish_every_ms = every_ms.max(1);
+    }
+
+    /// How many changes the core has had.
+    #[must_use]
+    pub const fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// `now` in the engine's milliseconds since its first reading (which this makes `now`'s
+    /// if there was none); a reading before the first is 0.
+    fn engine_ms(&mut self, now: Now) -> u64 {
+        self.origin_ns.get_or_insert(now.reading_ns);
+        self.ms_at(now)
+    }
+
+    /// `now` in the engine's milliseconds since its first reading (`now` itself if there was
+    /// none).
+    fn ms_at(&self, now: Now) -> u64 {
+        let origin = self.origin_ns.unwrap_or(now.reading_ns);
+        u64::try_from(now.reading_ns.saturating_sub(origin) / 1_000_000).unwrap_or(0)
+    }
+
+    /// The engine time the core was last told, as a [`Now`] whose stamp is `stamp`: handling a
+    /// request at this time tells the core no time.
+    #[must_use]
+    pub fn told(&self, stamp: Time) -> Now {
+        let told_ns = i64::try_from(self.host.told_ms())
+            .unwrap_or(i64::MAX)
+            .saturating_mul(1_000_000);
+        Now::new(self.origin_ns.unwrap_or(0).saturating_add(told_ns), stamp)
+    }
+
+    /// Counts a change of the core, `shown` if it changed what the streams show.
+    fn count_change(&mut self, shown: bool) -> Change {
+        self.revision += 1;
+        self.unpublished |= shown;
+        Change {
+            revision: Some(self.revision),
+            publish: shown,
+        }
+    }
+
+    /// Tells the core the time `now` (the core's `Tick` for the time since it was last told):
+    /// the transition if time passed.
+    fn catch_up(&mut self, now: Now) -> Option<Transition> {
+        let now_ms = self.engine_ms(now);
+        match self.host.advance_to(now_ms) {
+            Ok(transition) => transition,
+            Err(error) => {
+                tracing::error!(%error, "the core refused a tick");
+                None
+            }
+        }
+    }
+
+    /// Answers `request`, made at `now`: the core is told the time first
+    /// (`[COOP-ENGINE-TIME.1]`), then the request is answered by the adapters, so an operator's
+    /// call gets the core's transition's answer at its time (`[COOP-ENGINE-ANSWER.1]`); the
+    /// sync's statuses are stamped `now.stamp`.
+    pub fn handle(&mut self, request: Request, now: Now) -> Handled {
+        let ticked = self.catch_up(now);
+        let mut shown = ticked.as_ref().is_some_and(|t| !t.retired.is_empty());
+        let (reply, changed) = match request {
+            Request::Ad(request) => {
+                // An AD API call changed the core exactly when an operator decision or a policy
+                // is now other than it was, each of which the streams show.
+                let answer = self.host.answer(&request);
+                shown |= answer.changed;
+                (Reply::Ad(answer.response), answer.changed)
+            }
+            Request::Sync(request) => {
+                let named = shown::named(&request);
+                let before = shown::of_scenes(self.host.state(), &named);
+                let (response, changed) = sync::answer(&mut self.host, &request, now.stamp);
+                shown |= changed && before != shown::of_scenes(self.host.state(), &named);
+                (Reply::Sync(response), changed)
+            }
+            Request::Malformed(endpoint, message) => (Reply::refusal(endpoint, message), false),
+        };
+        let change = if changed || ticked.is_some() {
+            self.count_change(shown)
+        } else {
+            Change::default()
+        };
+        Handled { reply, change }
+    }
+
+    /// Tells the core the time between requests: scenes whose time to live ran out retire.
+    pub fn handle_timeout(&mut self, now: Now) -> Change {
+        self.advance(now).0
+    }
+
+    /// As [`handle_timeout`](Self::handle_timeout), with the core's transition if time passed
+    /// (its `retired` are the scenes that aged out).
+    pub fn advance(&mut self, now: Now) -> (Change, Option<Transition>) {
+        match self.catch_up(now) {
+            Some(transition) => (
+                self.count_change(!transition.retired.is_empty()),
+                Some(transition),
+            ),
+            None => (Change::default(), None),
+        }
+    }
+
+    /// A call by a planner in the same process (the C++ class's RTC interfaces, a Rust planner's
+    /// own core inputs), made at the time the core was last told: `call` gets the core with its
+    /// routes, and its `Ok` counts as a change.
+    pub fn call<T, E>(
+        &mut self,
+        call: impl FnOnce(&mut Host) -> Result<T, E>,
+    ) -> (Result<T, E>, Change) {
+        let result = call(&mut self.host);
+        let change = if result.is_ok() {
+            self.count_change(true)
+        } else {
+            Change::default()
+        };
+        (result, change)
+    }
+
+    /// Whether a publication is due at `now` (`[COOP-ENGINE-PUBLISH.1]`): a change the streams
+    /// show came since the last publication, or the periodic interval has run.
+    #[must_use]
+    pub fn publication_due(&self, now: Now) -> bool {
+        self.unpublished || self.ms_at(now) >= self.next_publication_ms
+    }
+
+    /// The streams' messages at `now`, if a publication is due ([`publication_due`](Self::publication_due)).
+    pub fn poll_publication(&mut self, now: Now) -> Option<Publication> {
+        if !self.publication_due(now) {
+            return None;
+        }
+        let now_ms = self.engine_ms(now);
+        self.unpublished = false;
+        self.next_publication_ms = now_ms.saturating_add(self.options.publish_every_ms.max(1));
+        Some(self.publication(now.stamp))
+    }
+
+    /// The streams' messages for the core as it is, stamped `stamp`, whether or not a
+    /// publication is due: what [`poll_publication`](Self::poll_publication) hands out.
+    #[must_use]
+    pub fn publication(&self, stamp: Time) -> Publication {
+        let state = self.host.state();
+        Publication {
+            revision: self.revision,
+            velocity: wire::velocity_factors(state, stamp),
+            steering: wire::steering_factors(state, stamp),
+            scenes: scenes::scene_array(state, stamp),
+        }
+    }
+
+    /// Milliseconds from `now` until the next periodic publication is due (0 if it is).
+    #[must_use]
+    pub fn until_publication_ms(&self, now: Now) -> u64 {
+        let now_ms = self.ms_at(now);
+        self.next_publication_ms.saturating_sub(now_ms)
+    }
+}

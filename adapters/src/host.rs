@@ -1,0 +1,228 @@
+//! A process that hosts the core for others: the core with the bookkeeping its adapters keep
+//! ([`Host`]), and the service engine over it behind one lock ([`Shared`]).
+
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+
+use cooperation::{State, Transition};
+
+use crate::engine::{Engine, Now, Publication};
+use crate::rtc::{Interface, Rtc, RtcError, View};
+use crate::wire;
+
+/// The core as a process serving it keeps it: the [`State`], the RTC interfaces' routing
+/// ([`Rtc`]), and the monotonic time the core was last told of.
+///
+/// One value, so that one lock ([`Shared`]) covers everything a call reads or writes: a node
+/// serving operators and planning modules has no second lock and no lock order. Every change is
+/// still an input to [`State::apply`] (or [`State::apply_all`]): through the AD API services
+/// ([`answer`](Self::answer)), an RTC interface ([`interface`](Self::interface)) or time
+/// ([`advance_to`](Self::advance_to)).
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Host {
+    state: State,
+    rtc: Rtc,
+    /// The monotonic time the core was last told of, in milliseconds.
+    told_ms: u64,
+}
+
+impl Host {
+    /// A host of `state`, whose planning modules report through `rtc`'s interfaces, with its
+    /// clock at 0.
+    #[must_use]
+    pub const fn new(state: State, rtc: Rtc) -> Self {
+        Self {
+            state,
+            rtc,
+            told_ms: 0,
+        }
+    }
+
+    /// The core, to query.
+    #[must_use]
+    pub const fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The core, for a planner in the same process that speaks its inputs directly
+    /// ([`State::apply`], [`State::apply_all`]). Time is better told through
+    /// [`advance_to`](Self::advance_to), which keeps the host's clock and the RTC routes in step.
+    pub fn state_mut(&mut self) -> &mut State {
+        &mut self.state
+    }
+
+    /// The RTC interfaces, to query.
+    #[must_use]
+    pub const fn rtc(&self) -> &Rtc {
+        &self.rtc
+    }
+
+    /// The RTC interfaces and the core, for the calls that take both (the external API's
+    /// [`Rtc::cooperate_commands`], [`Rtc::auto_mode_with_module`]).
+    pub fn rtc_and_state(&mut self) -> (&mut Rtc, &mut State) {
+        (&mut self.rtc, &mut self.state)
+    }
+
+    /// An AD API service call, read by [`wire::Service::read`]: the typed response and whether
+    /// the state changed.
+    pub fn answer(&mut self, request: &wire::Request) -> wire::Answer<wire::Response> {
+        request.answer(&mut self.state)
+    }
+
+    /// The RTC interface named `name`, to report through.
+    ///
+    /// # Errors
+    /// As [`Rtc::interface`].
+    pub fn interface(&mut self, name: &str) -> Result<Interface<'_>, RtcError> {
+        self.rtc.interface(&mut self.state, name)
+    }
+
+    /// The RTC interface named `name`, to query.
+    ///
+    /// # Errors
+    /// As [`Rtc::view`].
+    pub fn view(&self, name: &str) -> Result<View<'_>, RtcError> {
+        self.rtc.view(&self.state, name)
+    }
+
+    /// The monotonic time the core was last told of, in milliseconds from the host's start.
+    #[must_use]
+    pub const fn told_ms(&self) -> u64 {
+        self.told_ms
+    }
+
+    /// Tells the core that the host's monotonic clock reads `now_ms`: the core's `Tick` for the
+    /// time since it was last told ([`Rtc::tick`], which also forgets the routes of forgotten
+    /// scenes). `None` if no time passed; a reading earlier than the last one is a clock that
+    /// went back, and is taken as no time passing, so that no scene ages twice.
+    ///
+    /// # Errors
+    /// The core's rejection of the tick (a tick is never rejected today).
+    pub fn advance_to(&mut self, now_ms: u64) -> Result<Option<Transition>, RtcError> {
+        let elapsed_ms = now_ms.saturating_sub(self.told_ms);
+        self.told_ms = self.told_ms.max(now_ms);
+        if elapsed_ms == 0 {
+            return Ok(None);
+        }
+        self.rtc.tick(&mut self.state, elapsed_ms).map(Some)
+    }
+}
+
+/// An [`Engine`] behind one lock: `Send + Sync`, shareable through an `Arc` between a planning
+/// cycle, service callbacks and a clock.
+///
+/// Every change goes through [`State::apply`] under the lock, so each call is applied whole or
+/// (when refused) not at all, and calls from different threads are applied one after the other:
+/// none is lost, none sees another half-done (`[COOP-DEV-RACE.1]`). Reads take the same lock
+/// and so see the state between two calls, never during one.
+///
+/// ```
+/// use std::sync::Arc;
+/// use cooperation::*;
+/// use cooperation_adapters::engine::{Engine, Options};
+/// use cooperation_adapters::rtc::StatusReport;
+/// use cooperation_adapters::Shared;
+///
+/// let config = cooperation_adapters::settings::load(None)?;
+/// let shared = Arc::new(Shared::new(Engine::new(config, Options::default())?));
+/// let id = SceneId::from_u128(7);
+///
+/// // The planning thread reports a scene through its RTC interface ...
+/// let planner = Arc::clone(&shared);
+/// std::thread::spawn(move || {
+///     planner.update(|engine| {
+///         let report = StatusReport::new(id, true, Phase::Waiting, 10.0, 30.0);
+///         engine
+///             .call(|host| host.interface("intersection")?.update_cooperate_status(&report).map(drop))
+///             .0
+///     })
+/// })
+/// .join()
+/// .expect("the planning thread ran")?;
+///
+/// // ... and a service thread reads it: the built-in settings' optional policy, the module
+/// // safe, no operator decision yet.
+/// assert_eq!(shared.read(|engine| engine.state().merged_decision(id)), Some(Decision::Activate));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Shared {
+    inner: Mutex<Inner>,
+}
+
+/// What the lock guards: the engine, and its newest publication for every door that sends
+/// one.
+#[derive(Debug)]
+struct Inner {
+    engine: Engine,
+    /// How many publications the engine has handed out, and the newest.
+    published: u64,
+    newest: Option<Arc<Publication>>,
+}
+
+impl Shared {
+    /// A handle owning `engine`.
+    #[must_use]
+    pub const fn new(engine: Engine) -> Self {
+        Self {
+            inner: Mutex::new(Inner {
+                engine,
+                published: 0,
+                newest: None,
+            }),
+        }
+    }
+
+    /// The lock. A panic in another thread while it held the lock cannot have left the core
+    /// half-changed: its only writers are `State::apply` and `State::apply_all`, which decide
+    /// before they write and do not panic, and the engine's own bookkeeping is written after the
+    /// core. So a poisoned lock is used as it is.
+    fn lock(&self) -> MutexGuard<'_, Inner> {
+        self.inner.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Runs `change` with the lock held: whatever it does is a sequence of inputs, each applied
+    /// whole or not at all, and no other thread's input lands between them. Keep it short;
+    /// every other caller waits for it.
+    pub fn update<R>(&self, change: impl FnOnce(&mut Engine) -> R) -> R {
+        change(&mut self.lock().engine)
+    }
+
+    /// Runs `query` between two changes: everything it reads is from one moment. Keep it short;
+    /// every other caller waits for it.
+    pub fn read<R>(&self, query: impl FnOnce(&Engine) -> R) -> R {
+        query(&self.lock().engine)
+    }
+
+    /// The newest publication for a door that has sent the first `sent` ones, with its number:
+    /// the engine's, if one is due at `now` ([`Engine::poll_publication`]), or one another door
+    /// polled since. Every door of a process sends every publication it sees, so that all the
+    /// doors of one engine show the same thing, each at its own pace.
+    pub fn publication(&self, now: Now, sent: u64) -> Option<(u64, Arc<Publication>)> {
+        let mut inner = self.lock();
+        if let Some(publication) = inner.engine.poll_publication(now) {
+            inner.published += 1;
+            inner.newest = Some(Arc::new(publication));
+        }
+        let number = inner.published;
+        inner
+            .newest
+            .as_ref()
+            .filter(|_| number > sent)
+            .map(|newest| (number, Arc::clone(newest)))
+    }
+
+    /// The engine, when no other thread can reach the handle any more.
+    #[must_use]
+    pub fn into_inner(self) -> Engine {
+        self.inner
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+            .engine
+    }
+}
+
+impl From<Engine> for Shared {
+    fn from(engine: Engine) -> Self {
+        Self::new(engine)
+    }
+}

@@ -1,0 +1,171 @@
+//! The service engine (`cooperation_adapters::engine`, spec §6.7): requests answered at their own
+//! time, what the streams show published, and the answers the core's. The engine model checks
+//! the same rules over every interleaving (`models/tests/engine_model.rs`).
+
+use cooperation::{Command, Input, OperatorDecision, Policy, PolicySetting, SceneId};
+use cooperation_adapters::engine::{Endpoint, Engine, Now, Options, Reply, Request};
+use cooperation_adapters::rtc::{self, CooperateStatus};
+use cooperation_adapters::sync::{SyncRequest, SyncStatus};
+use cooperation_adapters::wire::{self, Service};
+use cooperation_adapters::Time;
+
+const TTL_MS: u64 = 100;
+
+fn engine() -> Engine {
+    let mut config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+    config.limits.ttl_ms = TTL_MS;
+    let mut engine = Engine::new(config, Options::default()).expect("a configuration");
+    engine.handle_timeout(at(0));
+    engine
+}
+
+/// The reading `ms` milliseconds after the engine's first.
+fn at(ms: u64) -> Now {
+    Now::new(
+        i64::try_from(ms).expect("small") * 1_000_000,
+        Time::new(1_000, 0),
+    )
+}
+
+fn id(n: u128) -> SceneId {
+    SceneId::from_u128(n)
+}
+
+/// A module's sync reporting scene `n` on the intersection's interface.
+fn report(n: u128, safe: bool) -> Request {
+    let status = CooperateStatus {
+        uuid: id(n).into(),
+        safe,
+        state: rtc::Lifecycle::new(rtc::Lifecycle::WAITING_FOR_EXECUTION),
+        start_distance: 10.0,
+        finish_distance: 30.0,
+        ..CooperateStatus::default()
+    };
+    Request::Sync(SyncRequest {
+        interface: "intersection".to_owned(),
+        statuses: vec![SyncStatus::from(&status)],
+        sequences: Vec::new(),
+        removed: Vec::new(),
+    })
+}
+
+fn command(n: u128, decision: OperatorDecision) -> Request {
+    let commands = [Command {
+        id: id(n),
+        decision,
+    }];
+    Request::Ad(wire::Request::SetCommands(
+        commands.iter().copied().collect(),
+    ))
+}
+
+/// `[COOP-ENGINE-TIME.1]`: a command made after its scene's time to live passed is refused
+/// even though no tick came between; a scene lives its time to live from its report's time,
+/// not from the time the core was last told.
+#[test]
+fn coop_engine_time_1() {
+    let mut engine = engine();
+    assert!(engine.handle(report(1, false), at(10)).reply.success());
+    assert!(engine
+        .handle(command(1, OperatorDecision::Activate), at(10 + TTL_MS))
+        .reply
+        .success());
+    let late = engine.handle(command(1, OperatorDecision::Deactivate), at(11 + TTL_MS));
+    assert!(!late.reply.success(), "{late:?}");
+    assert_eq!(engine.state().scene(id(1)), None, "retired by expiry");
+
+    // Reported long after the core was last told: it lives its whole time to live from then.
+    assert!(engine.handle(report(2, true), at(1_000)).reply.success());
+    engine.handle_timeout(at(1_000 + TTL_MS));
+    assert!(engine.state().scene(id(2)).is_some());
+    engine.handle_timeout(at(1_001 + TTL_MS));
+    assert!(engine.state().scene(id(2)).is_none());
+}
+
+/// `[COOP-ENGINE-PUBLISH.1]`: a change the streams show makes a publication due at once; a
+/// report that only renews its scene's time to live does not; the interval makes one due
+/// regardless.
+#[test]
+fn coop_engine_publish_1() {
+    let mut engine = engine();
+    let first = engine
+        .poll_publication(at(0))
+        .expect("the first is due at once");
+    assert!(first.velocity.factors.is_empty());
+    assert!(engine.poll_publication(at(1)).is_none());
+
+    let handled = engine.handle(report(1, true), at(2));
+    assert!(handled.change.revision.is_some() && handled.change.publish);
+    let shown = engine.poll_publication(at(2)).expect("due at once");
+    assert_eq!(shown.velocity.factors.len(), 1);
+    assert_eq!(shown.revision, handled.change.revision.expect("changed"));
+
+    // The same report again: the core changed (the time to live renewed), the streams did not.
+    let again = engine.handle(report(1, true), at(3));
+    assert!(again.change.revision.is_some() && !again.change.publish);
+    assert!(engine.poll_publication(at(3)).is_none());
+
+    // A policy change alters what the scenes topic shows.
+    let settings = [PolicySetting {
+        module: cooperation::Module::new(cooperation::Behavior::Intersection),
+        policy: Policy::Required,
+    }];
+    let request = Request::Ad(wire::Request::SetPolicies(
+        settings.iter().copied().collect(),
+    ));
+    assert!(engine.handle(request, at(4)).change.publish);
+    assert!(engine.poll_publication(at(4)).is_some());
+
+    // The interval.
+    let every = engine.options().publish_every_ms;
+    assert_eq!(engine.until_publication_ms(at(4)), every);
+    assert!(engine.poll_publication(at(3 + every)).is_none());
+    assert!(engine.poll_publication(at(4 + every)).is_some());
+}
+
+/// `[COOP-ENGINE-ANSWER.1]`: an operator's call is answered as the core's transition answers
+/// it on the state at the request's time, and a request that does not read is refused with the
+/// reader's explanation, the core unchanged.
+#[test]
+fn coop_engine_answer_1() {
+    let mut engine = engine();
+    assert!(engine.handle(report(1, false), at(0)).reply.success());
+
+    let mut oracle = engine.state().clone();
+    oracle
+        .apply(&Input::Tick { elapsed_ms: 50 })
+        .expect("time passes");
+    let unknown = [Command {
+        id: id(9),
+        decision: OperatorDecision::Activate,
+    }];
+    let expected = oracle
+        .apply(&Input::SetCommands {
+            commands: unknown.to_vec(),
+        })
+        .expect_err("an unknown scene");
+    let handled = engine.handle(command(9, OperatorDecision::Activate), at(50));
+    let Reply::Ad(response) = &handled.reply else {
+        panic!("an AD API reply: {handled:?}")
+    };
+    assert_eq!(response.status().message, expected.to_string());
+    assert_eq!(engine.state(), &oracle);
+
+    let before = engine.state().clone();
+    let malformed = Endpoint::Ad(Service::SetCommands).read_json(br#"{"commands": 7}"#);
+    assert!(matches!(malformed, Request::Malformed(..)));
+    let handled = engine.handle(malformed, at(50));
+    let Reply::Ad(response) = &handled.reply else {
+        panic!("an AD API reply: {handled:?}")
+    };
+    assert_eq!(
+        response.status().code,
+        wire::ResponseStatus::PARAMETER_ERROR
+    );
+    assert!(
+        response.status().message.contains("commands"),
+        "{response:?}"
+    );
+    assert_eq!(engine.state(), &before);
+    assert_eq!(handled.change.revision, None);
+}

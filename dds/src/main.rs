@@ -1,0 +1,110 @@
+//! `cooperation-dds`: serves the cooperation AD API as a ROS 2 node over DDS.
+
+use std::net::IpAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Duration;
+
+use clap::Parser;
+use cooperation_dds::graph::Distro;
+use cooperation_dds::{Node, Options};
+
+/// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
+/// steering factors) and the planning modules' sync service as a ROS 2 node over DDS, as
+/// rmw_cyclonedds_cpp speaks it.
+#[derive(Parser, Debug)]
+#[command(version)]
+struct Args {
+    /// The DDS domain (by default ROS_DOMAIN_ID, or 0).
+    #[arg(long, env = "ROS_DOMAIN_ID", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=232))]
+    domain: u16,
+    /// A local address DDS may use; repeat for more (by default every interface).
+    #[arg(long = "interface", value_name = "ADDRESS")]
+    interfaces: Vec<IpAddr>,
+    /// The settings file with the modules' default policies and the limits (by default the
+    /// repository's config/cooperation.param.yaml, built into the node).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// The node's name in the ROS graph.
+    #[arg(long, default_value = "cooperation")]
+    name: String,
+    /// The node's namespace.
+    #[arg(long, default_value = "/")]
+    namespace: String,
+    /// The ROS 2 line of the peers (the length of a Gid in ros_discovery_info).
+    #[arg(long, value_enum, default_value_t = Distro::Humble)]
+    distro: Distro,
+    /// Periodic publications of the factors per second (they are also published on change);
+    /// the engine's default interval unless given.
+    #[arg(long, default_value_t = cooperation_adapters::engine::PUBLICATION_RATE_HZ)]
+    rate: f64,
+    /// Live scenes each RTC interface may hold.
+    #[arg(long, default_value_t = cooperation_adapters::rtc::SCENE_QUOTA)]
+    scene_quota: usize,
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .init();
+    match run(Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            tracing::error!("{message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: Args) -> Result<(), String> {
+    if !(args.rate.is_finite() && args.rate > 0.0 && args.rate <= 1000.0) {
+        return Err(format!(
+            "--rate {}: give a rate above 0 and at most 1000",
+            args.rate
+        ));
+    }
+    if !args.namespace.starts_with('/') {
+        return Err(format!(
+            "--namespace {}: a namespace starts with /",
+            args.namespace
+        ));
+    }
+    let config = cooperation_adapters::settings::load(args.settings.as_deref())?;
+    let options = Options {
+        domain: args.domain,
+        interfaces: args.interfaces,
+        name: args.name,
+        namespace: args.namespace,
+        distro: args.distro,
+        publish_every: Duration::from_secs_f64(1.0 / args.rate),
+        scene_quota: args.scene_quota,
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(signal, Arc::clone(&stop))
+            .map_err(|error| format!("signal {signal}: {error}"))?;
+    }
+    let mut node = Node::new(config, options.clone())?;
+    tracing::info!(
+        "serving node {}{}{} on DDS domain {} (ROS 2 {:?}, Cyclone DDS's service mapping)",
+        options.namespace,
+        if options.namespace.ends_with('/') {
+            ""
+        } else {
+            "/"
+        },
+        options.name,
+        options.domain,
+        options.distro,
+    );
+    node.run(&stop)?;
+    tracing::info!("shutting down");
+    Ok(())
+}
