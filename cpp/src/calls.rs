@@ -315,17 +315,19 @@ pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]
             })
             .collect(),
     };
-    // The adapter's response; an interface that is not there refuses every command.
-    let mut response = CooperateCommandsResponse::answering(&request, false);
+    let mut response = None;
     let result = core.change(|engine| {
         engine
             .call(|host| {
                 let reply = host.interface(name)?.cooperate_commands(&request);
-                response = reply.response;
+                response = Some(reply.response);
                 reply.result
             })
             .0
     });
+    // The adapter's response; an interface that is not there refuses every command.
+    let response =
+        response.unwrap_or_else(|| CooperateCommandsResponse::answering(&request, false));
     // What the adapter answered, entry for entry.
     Answered {
         outcome: outcome(result),
