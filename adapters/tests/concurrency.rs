@@ -45,10 +45,15 @@ fn shared() -> Arc<Shared> {
         },
     };
     let state = State::new(config).expect("valid config");
-    Arc::new(Shared::new(Engine::from_state(
-        state,
-        engine::Options::default(),
-    )))
+    // The planners apply core inputs, not RTC calls: no interface quota, whose total the small
+    // table could not hold.
+    let options = engine::Options {
+        scene_quota: 0,
+        ..engine::Options::default()
+    };
+    Arc::new(Shared::new(
+        Engine::from_state(state, options).expect("no quota"),
+    ))
 }
 
 /// The AD API's answer to `request`, made at the time the core was last told.

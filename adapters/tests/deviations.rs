@@ -146,8 +146,13 @@ fn coop_dev_race_1() {
     assert_eq!(here, there);
     // Shared: two threads through one handle, each input whole; the full hammering is in
     // adapters/tests/concurrency.rs.
+    // The fixture's table is small, and the race is between core inputs: no interface quota.
+    let options = cooperation_adapters::engine::Options {
+        scene_quota: 0,
+        ..Default::default()
+    };
     let engine =
-        cooperation_adapters::engine::Engine::from_state(with_scenes(), Default::default());
+        cooperation_adapters::engine::Engine::from_state(with_scenes(), options).expect("no quota");
     let shared = std::sync::Arc::new(cooperation_adapters::Shared::new(engine));
     let other = std::sync::Arc::clone(&shared);
     let operator = std::thread::spawn(move || {

@@ -169,3 +169,84 @@ fn coop_engine_answer_1() {
     assert_eq!(engine.state(), &before);
     assert_eq!(handled.change.revision, None);
 }
+
+/// `[COOP-DEV-QUOTA.1]` in a node: the interfaces' quotas together fit the core's table, so
+/// with every interface at its quota a module still registers through any interface that is
+/// under its own. A quota that could fill the table is refused before anything is served,
+/// naming the largest that fits.
+#[test]
+fn every_interface_at_its_quota_fits_the_table() {
+    let config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+    let max_scenes = config.limits.max_scenes;
+    let interfaces = rtc::Binding::standard().len();
+    // The default: the table shared evenly by the standard interfaces.
+    assert_eq!(Options::default().scene_quota, max_scenes / interfaces);
+    assert_eq!(rtc::SCENE_QUOTA, 215);
+
+    let over = Options {
+        scene_quota: rtc::SCENE_QUOTA + 1,
+        ..Options::default()
+    };
+    let error = Engine::new(config.clone(), over).expect_err("216 × 19 > 4096");
+    assert_eq!(
+        error,
+        cooperation_adapters::engine::EngineError::QuotaOverTable {
+            quota: 216,
+            interfaces,
+            max_scenes
+        }
+    );
+    assert!(
+        error
+            .to_string()
+            .contains("comes to 4104 live scenes, more than the core's 4096")
+            && error.to_string().contains("give a quota of at most 215"),
+        "{error}"
+    );
+    let none = Options {
+        scene_quota: 0,
+        ..Options::default()
+    };
+    assert!(
+        Engine::new(config.clone(), none).is_ok(),
+        "no quota is a choice"
+    );
+
+    let mut engine = Engine::new(config, Options::default()).expect("the default fits");
+    engine.handle_timeout(at(0));
+    let mut n = 0_u128;
+    for binding in rtc::Binding::standard() {
+        let sequence = binding
+            .sequences
+            .iter()
+            .next()
+            .copied()
+            .expect("one at least");
+        // Each interface to its quota, then one more, which is refused for the quota, not for
+        // a full table.
+        for scene in 0..=rtc::SCENE_QUOTA {
+            n += 1;
+            let report = rtc::StatusReport::new(id(n), true, cooperation::Phase::Waiting, 1.0, 2.0)
+                .in_sequence(sequence);
+            let (result, _) = engine.call(|host| {
+                host.interface(&binding.name)?
+                    .update_cooperate_status(&report)
+                    .map(drop)
+            });
+            if scene < rtc::SCENE_QUOTA {
+                assert!(result.is_ok(), "{}: {result:?}", binding.name);
+            } else {
+                assert!(
+                    matches!(result, Err(rtc::RtcError::SceneQuota { .. })),
+                    "{}: {result:?}",
+                    binding.name
+                );
+            }
+        }
+    }
+    assert_eq!(
+        engine.state().scene_count(),
+        rtc::SCENE_QUOTA * interfaces,
+        "every interface holds its quota, and the table has room left"
+    );
+}

@@ -248,18 +248,21 @@ void a_quota_per_interface()
 }
 void the_nodes_default_quota()
 {
-  // Without a quota of its own, the core has the nodes' default: 256 live scenes an interface.
+  // Without a quota of its own, the core has the nodes' default: 215 live scenes an interface,
+  // the core's 4,096 shared by the 19 interfaces.
+  const auto quota = static_cast<unsigned>(cooperation::bridge::default_scene_quota());
+  CHECK(quota == 215, "the nodes' default quota is 215");
   Node node("planner");
   check::Log log(node);
   RTCInterface rtc(&node, "crosswalk", true);
-  for (unsigned n = 0; n < 256; ++n) {
+  for (unsigned n = 0; n < quota; ++n) {
     rtc.updateCooperateStatus(check::uuid(n), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
   }
-  CHECK(rtc.isRegistered(check::uuid(0)) && rtc.isRegistered(check::uuid(255)), "256 scenes register");
+  CHECK(rtc.isRegistered(check::uuid(0)) && rtc.isRegistered(check::uuid(quota - 1)), "215 scenes register");
   CHECK(!log.warned("the most it may have"), "with no refusal");
-  rtc.updateCooperateStatus(check::uuid(256), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
-  CHECK(!rtc.isRegistered(check::uuid(256)) && log.warned("the most it may have"),
-        "the 257th is over the default quota [COOP-DEV-QUOTA.1]");
+  rtc.updateCooperateStatus(check::uuid(quota), true, State::WAITING_FOR_EXECUTION, 1, 1, check::at(0));
+  CHECK(!rtc.isRegistered(check::uuid(quota)) && log.warned("the most it may have"),
+        "the 216th is over the default quota [COOP-DEV-QUOTA.1]");
 }
 }  // namespace
 

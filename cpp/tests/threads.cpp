@@ -67,7 +67,7 @@ int main()
   cooperation::rtc::Node node("planner");
   node.set_now(check::at(50));
   check::Log log(node);
-  // 300 scenes an interface, past the nodes' default quota of 256: this core has none.
+  // 300 scenes an interface, past the nodes' default quota of 215: this core has none.
   const auto core = cooperation::rtc::core_of(&node, 0);
   RTCInterface intersection(&node, "intersection", true);
   RTCInterface crosswalk(&node, "crosswalk", true);

@@ -13,7 +13,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use axum::extract::ws::Utf8Bytes;
-use cooperation::{Config, ConfigError};
+use cooperation::Config;
+use cooperation_adapters::engine::EngineError;
 use cooperation_adapters::engine::{self, Engine, Reply, Request};
 use cooperation_adapters::wire;
 use cooperation_adapters::Shared;
@@ -132,16 +133,16 @@ impl Node {
     /// ([`engine::Options`]).
     ///
     /// # Errors
-    /// The core's refusal of the configuration.
-    pub fn new(config: Config) -> Result<Self, ConfigError> {
+    /// The engine's refusal of the configuration ([`EngineError`]).
+    pub fn new(config: Config) -> Result<Self, EngineError> {
         Self::with_options(config, engine::Options::default())
     }
 
     /// As [`new`](Self::new), each RTC interface holding at most `quota` live scenes.
     ///
     /// # Errors
-    /// The core's refusal of the configuration.
-    pub fn with_scene_quota(config: Config, quota: usize) -> Result<Self, ConfigError> {
+    /// The engine's refusal of the configuration, the quota included ([`EngineError`]).
+    pub fn with_scene_quota(config: Config, quota: usize) -> Result<Self, EngineError> {
         Self::with_options(
             config,
             engine::Options {
@@ -154,8 +155,8 @@ impl Node {
     /// A node over a new engine with `config` and `options`.
     ///
     /// # Errors
-    /// The core's refusal of the configuration.
-    pub fn with_options(config: Config, options: engine::Options) -> Result<Self, ConfigError> {
+    /// The engine's refusal of the configuration ([`EngineError`]).
+    pub fn with_options(config: Config, options: engine::Options) -> Result<Self, EngineError> {
         let shared = Arc::new(Shared::new(Engine::new(config, options)?));
         Ok(Self::with_shared(shared, Clock::start()))
     }

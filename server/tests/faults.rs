@@ -6,19 +6,26 @@ mod common;
 
 use std::time::{Duration, Instant};
 
-use common::{operator_decision, serve, serve_quota, status, Client, WAIT};
+use common::{operator_decision, serve, status, Client, WAIT};
 use cooperation_server::{Limits, Options};
 use serde_json::json;
 
-/// Scenes 1 to 500 of the `intersection` interface, registered by a module that then leaves
-/// (they live for the settings' 10 s); serve with [`serve_quota`] of 500 for them.
+/// Scenes 1 to 500, a hundred on each of five velocity interfaces (each under the default
+/// quota), registered by a module that then leaves (they live for the settings' 10 s).
 async fn five_hundred_scenes(url: &str) {
     let mut module = Client::connect(url).await;
-    for batch in 0..5_u128 {
+    let interfaces = [
+        "intersection",
+        "crosswalk",
+        "traffic_light",
+        "detection_area",
+        "no_stopping_area",
+    ];
+    for (batch, interface) in (0..5_u128).zip(interfaces) {
         let scenes: Vec<_> = (0..100)
             .map(|n| status(batch * 100 + n + 1, true, 5.0))
             .collect();
-        assert_eq!(module.sync("intersection", scenes).await["success"], true);
+        assert_eq!(module.sync(interface, scenes).await["success"], true);
     }
 }
 
@@ -92,14 +99,11 @@ async fn a_stalled_subscriber_is_disconnected_and_others_are_served_meanwhile() 
         write_timeout: Duration::from_millis(500),
         ..Limits::default()
     };
-    let served = serve_quota(
-        Options {
-            publish_every: Duration::from_millis(10),
-            limits,
-            ..Options::default()
-        },
-        500,
-    )
+    let served = serve(Options {
+        publish_every: Duration::from_millis(10),
+        limits,
+        ..Options::default()
+    })
     .await;
     // Big publications, to fill the stalled client's socket buffers quickly.
     five_hundred_scenes(&served.url).await;
@@ -143,13 +147,10 @@ async fn a_stalled_subscriber_is_disconnected_and_others_are_served_meanwhile() 
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_slow_subscriber_skips_publications_and_each_is_whole_and_current() {
-    let served = serve_quota(
-        Options {
-            publish_every: Duration::from_millis(5),
-            ..Options::default()
-        },
-        500,
-    )
+    let served = serve(Options {
+        publish_every: Duration::from_millis(5),
+        ..Options::default()
+    })
     .await;
     // 500 scenes: publications of about 90 KB, 200 a second.
     five_hundred_scenes(&served.url).await;

@@ -35,13 +35,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod error;
 mod request;
 pub mod scenes;
 mod shown;
 
+pub use error::EngineError;
 pub use request::{Endpoint, Reply, Request};
 
-use cooperation::{Config, ConfigError, State, Transition};
+use cooperation::{Config, State, Transition};
 
 use crate::rtc::{Rtc, SCENE_QUOTA};
 use crate::wire::{self, SteeringFactorArray, VelocityFactorArray};
@@ -56,7 +58,9 @@ pub const PUBLICATION_RATE_HZ: f64 = 1000.0 / PUBLISH_EVERY_MS as f64;
 /// How the engine runs: the same defaults for every host.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 pub struct Options {
-    /// The live scenes each RTC interface may hold (`[COOP-DEV-QUOTA.1]`); 0 for no quota.
+    /// The live scenes each RTC interface may hold (`[COOP-DEV-QUOTA.1]`); 0 for no quota. The
+    /// quotas of all interfaces together must fit the core's table
+    /// ([`EngineError::QuotaOverTable`]).
     pub scene_quota: usize,
     /// The interval of periodic publications, in milliseconds (at least 1).
     pub publish_every_ms: u64,
@@ -151,27 +155,40 @@ impl Engine {
     /// An engine over a new core with `config`, the standard RTC interfaces and `options`.
     ///
     /// # Errors
-    /// The core's refusal of the configuration.
-    pub fn new(config: Config, options: Options) -> Result<Self, ConfigError> {
-        State::new(config).map(|state| Self::from_state(state, options))
+    /// The core's refusal of the configuration ([`EngineError::Config`]); a scene quota whose
+    /// interfaces together could hold more scenes than the core's table
+    /// ([`EngineError::QuotaOverTable`]).
+    pub fn new(config: Config, options: Options) -> Result<Self, EngineError> {
+        Self::from_state(State::new(config)?, options)
     }
 
     /// An engine over `state` (a core a planner built and fed itself), the standard RTC
     /// interfaces and `options`.
-    #[must_use]
-    pub fn from_state(state: State, options: Options) -> Self {
+    ///
+    /// # Errors
+    /// [`EngineError::QuotaOverTable`], as for [`Engine::new`].
+    pub fn from_state(state: State, options: Options) -> Result<Self, EngineError> {
         let mut rtc = Rtc::standard();
         if options.scene_quota > 0 {
+            let interfaces = rtc.bindings().len();
+            let max_scenes = state.limits().max_scenes;
+            if options.scene_quota.saturating_mul(interfaces) > max_scenes {
+                return Err(EngineError::QuotaOverTable {
+                    quota: options.scene_quota,
+                    interfaces,
+                    max_scenes,
+                });
+            }
             rtc = rtc.with_scene_quota(options.scene_quota);
         }
-        Self {
+        Ok(Self {
             host: Host::new(state, rtc),
             options,
             origin_ns: None,
             revision: 0,
             unpublished: true,
             next_publication_ms: 0,
-        }
+        })
     }
 
     /// The core, to query.

@@ -63,8 +63,10 @@ impl Default for Rtc {
 }
 
 /// The live scenes each RTC interface of a node may hold unless told otherwise
-/// ([`Rtc::with_scene_quota`]): the default of both nodes' `--scene-quota`.
-pub const SCENE_QUOTA: usize = 256;
+/// ([`Rtc::with_scene_quota`]): the default of both nodes' `--scene-quota` and of the C++ class.
+/// The core's default table (4,096 live scenes) shared by the 19 standard interfaces, so that
+/// their quotas together never fill it (`engine::EngineError::QuotaOverTable`).
+pub const SCENE_QUOTA: usize = 215;
 
 impl Rtc {
     /// Interfaces with these bindings.

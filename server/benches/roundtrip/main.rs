@@ -421,8 +421,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     config.limits.max_scenes = config.limits.max_scenes.max(SCENES);
     // Every request tells the core its time: no scene may expire during the run.
     config.limits.ttl_ms = 3_600_000;
-    let node = Arc::new(Node::with_scene_quota(config, SCENES)?);
     let per_interface = SCENES.div_ceil(INTERFACES.len());
+    let node = Arc::new(Node::with_scene_quota(config, per_interface)?);
     for (at, interface) in INTERFACES.iter().enumerate() {
         let indices = at * per_interface..((at + 1) * per_interface).min(SCENES);
         let request =
