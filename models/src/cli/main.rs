@@ -67,11 +67,12 @@ const USAGE: &str = "usage:
   cooperation-models replay  FILE
 
 defaults: 2 modules, 3 scene identifiers, at most scenes-1 live, every retired one remembered,
-2 threads, depth first with symmetry reduction (breadth first when symmetry is off or cannot
-apply, that is when fewer retired identifiers are remembered than there are identifiers;
---strategy bfs keeps symmetry on the sequential model's default table, through canonical
-states: each successor is renamed to its representative, so breadth first meets each class
-once, with the depth-first counts and without depth-first paths' memory),
+as many threads as the machine has cores, depth first with symmetry reduction (breadth first
+when symmetry is off or cannot apply, that is when fewer retired identifiers are remembered
+than there are identifiers; --strategy bfs keeps symmetry on the sequential model's default
+table, through canonical states: each successor is renamed to its representative, so breadth
+first meets each class once, with the depth-first counts and without depth-first paths'
+memory),
 counterexamples saved under target/counterexamples. --table hashed lays every state's scenes
 out in the hashed index from the first scene, under a colliding hash (same counts). An input
 that changes nothing ends a path, and all such ends that fired one rule count as one state

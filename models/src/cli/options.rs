@@ -43,7 +43,7 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
     let mut bounds = Bounds::new(2, 3);
     let (mut live, mut retired) = (None, None);
     let mut settings = Settings {
-        threads: 2,
+        threads: default_threads(),
         strategy: Strategy::Dfs,
         symmetry: true,
     };
@@ -210,4 +210,10 @@ fn seed_range(text: &str) -> Result<std::ops::Range<u64>, String> {
         return Err(bad());
     }
     Ok(start..end)
+}
+
+/// As many threads as the machine runs at once (2 if it cannot say): a bigger machine checks
+/// faster without being told. The counts do not depend on it.
+fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(2, std::num::NonZeroUsize::get)
 }
