@@ -123,14 +123,23 @@
   }
 
   // A node with credentials lets the panel in with an operator's token, given in the page's
-  // address after `#token=` (the part after `#` never leaves the browser).
-  function token() {
+  // address after `#token=` (the part after `#` never leaves the browser). It is read once and
+  // taken out of the address at once, so that it is not left in the address bar, the history
+  // or a screenshot; the tab keeps it (sessionStorage) so that a reload still connects.
+  const TOKEN_KEY = 'cooperation-panel-token';
+  function takeToken() {
     const match = /(?:^#|&)token=([A-Za-z0-9._~-]+)/.exec(location.hash);
-    return match ? match[1] : null;
+    if (match) {
+      try { sessionStorage.setItem(TOKEN_KEY, match[1]); } catch (_) { /* storage off */ }
+      history.replaceState(null, '', location.pathname + location.search);
+      return match[1];
+    }
+    try { return sessionStorage.getItem(TOKEN_KEY); } catch (_) { return null; }
   }
+  const givenToken = takeToken();
 
   function connect() {
-    const given = token();
+    const given = givenToken;
     const url = `ws://${location.host}/` + (given ? `?token=${given}` : '');
     showConnection('connecting', `Connecting to ${location.host}…`);
     const client = new ROSLIB.Ros({ url });

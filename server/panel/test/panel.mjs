@@ -330,6 +330,15 @@ async function run(state) {
   await pageUntil(page, 'the connection indicator says connected',
     () => document.getElementById('connection').dataset.state === 'connected');
   log('the page is connected');
+  // The token is taken out of the address as soon as it is read, and a reload still connects.
+  const address = page.url();
+  if (address.includes('token=') || address.includes(OPERATOR_TOKEN)) {
+    throw new Failure(`the token is still in the address: ${address}`);
+  }
+  await page.reload({ timeout: STEP_MS });
+  await pageUntil(page, 'after a reload, the connection indicator says connected',
+    () => document.getElementById('connection').dataset.state === 'connected');
+  log('the token leaves the address once read, and a reload of the tab still connects');
 
   // A page of another origin cannot connect (cross-site WebSocket hijacking), while the same
   // script on the panel's own page can: a page served from another port of this host, and a
