@@ -17,7 +17,8 @@ class CredentialsTest(unittest.TestCase):
     def setUp(self):
         directory = tempfile.mkdtemp()
         path = os.path.join(directory, "credentials")
-        with open(path, "w", encoding="utf-8") as file:
+        # Only its owner may read it, or the node refuses it.
+        with open(os.open(path, os.O_WRONLY | os.O_CREAT, 0o600), "w", encoding="utf-8") as file:
             file.write(f"operator ops {OPERATOR}\nmodule lanes {MODULE} lane_change_left\n")
         self.server = node.start(self, args=["--credentials", path])
 

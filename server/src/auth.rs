@@ -33,6 +33,20 @@ use axum::http::{header, HeaderMap, Uri};
 /// The fewest characters a token may have.
 pub const MIN_TOKEN: usize = 24;
 
+/// The fewest different characters a token may have: a random token of 24 characters has
+/// about 20, and one with fewer than this (`aaaa…`, `abab…`) was not made at random.
+pub const MIN_DISTINCT: usize = 8;
+
+/// The tokens the documentation shows (docs/server.md, and this module's): anyone can read
+/// them, so a file that uses them is refused.
+pub const EXAMPLE_TOKENS: [&str; 2] = [
+    "9hX2c4mQwZr7Lk0TtB5yNvE1aPu8sDfG",
+    "Qm4v8ZpLx1Ck7RtY2wHs9NbE3uJd6FgA",
+];
+
+/// How to make a token, for the messages that refuse one.
+const MAKE_ONE: &str = "make one at random, for example with `openssl rand -hex 24`";
+
 /// A credential's role.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Role {
@@ -96,13 +110,39 @@ fn token_characters(token: &str) -> bool {
         .all(|b| b.is_ascii_alphanumeric() || matches!(b, b'-' | b'.' | b'_' | b'~'))
 }
 
+/// The text of the credentials file at `path`, if only its owner may read or change it.
+///
+/// # Errors
+/// The file cannot be read; or (on Unix) its mode lets its group or anyone else read or write
+/// it: its tokens let whoever reads them act as the operator or a module.
+pub fn read_file(path: &std::path::Path) -> Result<String, String> {
+    let at = path.display();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(path)
+            .map_err(|error| format!("{at}: {error}"))?
+            .permissions()
+            .mode();
+        if mode & 0o077 != 0 {
+            return Err(format!(
+                "{at}: its mode is {:o}, so others than its owner may read or change its tokens; \
+                 give it mode 600 (`chmod 600 {at}`)",
+                mode & 0o777
+            ));
+        }
+    }
+    std::fs::read_to_string(path).map_err(|error| format!("{at}: {error}"))
+}
+
 impl Credentials {
     /// Reads a credentials file; `interfaces` are the RTC interfaces the node has.
     ///
     /// # Errors
     /// The first line that is not a credential: an unknown role, a missing name or token, a
-    /// token shorter than [`MIN_TOKEN`] or with characters other than letters, digits and
-    /// `-._~`, a name or token used twice, a module without interfaces or with one the node
+    /// token shorter than [`MIN_TOKEN`], with characters other than letters, digits and
+    /// `-._~`, with fewer than [`MIN_DISTINCT`] different characters or one of the
+    /// documentation's [`EXAMPLE_TOKENS`], a name or token used twice, a module without interfaces or with one the node
     /// does not have, an operator with interfaces. A file with no credential is an error too.
     pub fn parse(text: &str, interfaces: &[&str], places: usize) -> Result<Self, CredentialsError> {
         let mut list: Vec<Credential> = Vec::new();
@@ -133,6 +173,19 @@ impl Credentials {
                 return Err(fail(format!(
                     "the token of {name:?} must have at least {MIN_TOKEN} characters, each a \
                      letter, a digit or one of -._~"
+                )));
+            }
+            let distinct = token.bytes().collect::<BTreeSet<u8>>().len();
+            if distinct < MIN_DISTINCT {
+                return Err(fail(format!(
+                    "the token of {name:?} has {distinct} different characters, fewer than \
+                     {MIN_DISTINCT}: it is not random; {MAKE_ONE}"
+                )));
+            }
+            if EXAMPLE_TOKENS.contains(&token) {
+                return Err(fail(format!(
+                    "the token of {name:?} is an example from the documentation, which anyone \
+                     can read; {MAKE_ONE}"
                 )));
             }
             if list.iter().any(|c| c.name == name) {
@@ -304,6 +357,26 @@ mod tests {
             ("module m {TOKEN} nowhere", 1, "not an RTC interface"),
             ("operator p {TOKEN} intersection", 1, "only a module"),
             ("operator p {TOKEN}/", 1, "each a letter"),
+            (
+                "operator p aaaaaaaaaaaaaaaaaaaaaaaaaaaa",
+                1,
+                "1 different characters",
+            ),
+            (
+                "operator p abcdefgabcdefgabcdefgabcdefg",
+                1,
+                "7 different characters",
+            ),
+            (
+                "operator p 9hX2c4mQwZr7Lk0TtB5yNvE1aPu8sDfG",
+                1,
+                "an example",
+            ),
+            (
+                "module m Qm4v8ZpLx1Ck7RtY2wHs9NbE3uJd6FgA intersection",
+                1,
+                "an example",
+            ),
             ("# nothing", 1, "no credential"),
         ];
         for (text, line, reason) in bad {

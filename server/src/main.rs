@@ -105,8 +105,7 @@ async fn run(args: Args) -> Result<(), String> {
     let config = cooperation_adapters::settings::load(args.settings.as_deref())?;
     let credentials = match &args.credentials {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|error| format!("{}: {error}", path.display()))?;
+            let text = cooperation_server::auth::read_file(path)?;
             let rtc = cooperation_adapters::rtc::Rtc::standard();
             let interfaces: Vec<&str> = rtc.bindings().iter().map(|b| b.name.as_str()).collect();
             Some(

@@ -168,3 +168,19 @@ async fn the_auth_op_is_refused_with_where_a_credential_goes() {
         "{status}"
     );
 }
+
+/// The tokens docs/server.md shows are the ones the node refuses as examples, and the page
+/// says so.
+#[test]
+fn the_documented_example_tokens_are_refused() {
+    let page = include_str!("../../docs/server.md");
+    for token in cooperation_server::auth::EXAMPLE_TOKENS {
+        assert!(page.contains(token), "{token} is not on the page");
+        let error =
+            Credentials::parse(&format!("operator panel {token}"), &["lane_change_left"], 4)
+                .expect_err(token);
+        assert!(error.to_string().contains("an example"), "{error}");
+    }
+    assert!(page.contains("The tokens above are examples: the node refuses them"));
+    assert!(page.contains("openssl rand -hex 24"));
+}

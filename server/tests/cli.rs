@@ -3,6 +3,12 @@
 
 use std::process::Command;
 
+/// Sets a file's permission bits.
+fn set_mode(path: &std::path::Path, mode: u32) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).expect("a mode");
+}
+
 fn refused(args: &[&str], names: &str) {
     let output = Command::new(env!("CARGO_BIN_EXE_cooperation-server"))
         .args(args)
@@ -70,10 +76,32 @@ fn a_node_that_cannot_start_says_why() {
     );
     let credentials = dir.join("credentials");
     std::fs::write(&credentials, "# the operator\noperator panel short\n").expect("written");
-    let credentials = credentials.to_str().expect("UTF-8");
+    // A credentials file others may read is refused before it is read.
+    set_mode(&credentials, 0o644);
+    let path = credentials.to_str().expect("UTF-8");
     refused(
-        &["--listen", "0.0.0.0:0", "--credentials", credentials],
+        &["--listen", "0.0.0.0:0", "--credentials", path],
+        "its mode is 644, so others than its owner may read or change its tokens; give it mode 600",
+    );
+    set_mode(&credentials, 0o640);
+    refused(
+        &["--listen", "0.0.0.0:0", "--credentials", path],
+        "its mode is 640",
+    );
+    set_mode(&credentials, 0o600);
+    refused(
+        &["--listen", "0.0.0.0:0", "--credentials", path],
         "credentials: line 2: the token of \"panel\" must have at least 24 characters",
+    );
+    // The documentation's example tokens are refused: anyone can read them.
+    std::fs::write(
+        &credentials,
+        "operator panel 9hX2c4mQwZr7Lk0TtB5yNvE1aPu8sDfG\n",
+    )
+    .expect("written");
+    refused(
+        &["--listen", "0.0.0.0:0", "--credentials", path],
+        "an example from the documentation",
     );
     refused(
         &[
