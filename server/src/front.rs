@@ -28,6 +28,8 @@ use hyper::body::Incoming;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use tokio::net::TcpListener;
 use tokio::sync::Semaphore;
+
+use crate::refusals::Refusals;
 use tower::ServiceExt;
 
 /// The limits on connections before they become WebSockets.
@@ -43,6 +45,9 @@ pub struct Admission {
     pub header_timeout: Duration,
     /// The longest a connection stays open without becoming a WebSocket.
     pub request_timeout: Duration,
+    /// Refused clients and requests are logged one a period, the others summed up in one line
+    /// at its end.
+    pub refusal_log_every: Duration,
 }
 
 impl Default for Admission {
@@ -52,6 +57,7 @@ impl Default for Admission {
             per_peer: 128,
             header_timeout: Duration::from_secs(5),
             request_timeout: Duration::from_secs(30),
+            refusal_log_every: Duration::from_secs(10),
         }
     }
 }
@@ -68,6 +74,9 @@ impl Admission {
         }
         if self.header_timeout.is_zero() || self.request_timeout.is_zero() {
             return Some("a zero request timeout".to_owned());
+        }
+        if self.refusal_log_every.is_zero() {
+            return Some("a zero period for the log of refusals".to_owned());
         }
         None
     }
@@ -130,10 +139,11 @@ pub struct Peer {
 
 /// Accepts connections on `listener` and serves each with `router`, within `admission`'s
 /// limits, until `shutdown` completes.
-pub async fn accept(
+pub(crate) async fn accept(
     listener: TcpListener,
     router: Router,
     admission: Admission,
+    refusals: Arc<Refusals>,
     shutdown: impl std::future::Future<Output = ()> + Send,
 ) {
     let pending = Arc::new(Semaphore::new(admission.pending));
@@ -155,18 +165,23 @@ pub async fn accept(
             }
         };
         let Some(seat) = peers.seat(address.ip(), admission.per_peer) else {
-            tracing::warn!(
-                peer = %address.ip(),
-                "a connection closed: its address has {} open, the most one address may have",
-                admission.per_peer
+            refusals.log(
+                &address.to_string(),
+                &format!(
+                    "a connection closed: its address has {} open, the most one address may have",
+                    admission.per_peer
+                ),
             );
             continue;
         };
         let Ok(permit) = Arc::clone(&pending).try_acquire_owned() else {
-            tracing::warn!(
-                peer = %address,
-                "a connection closed: {} connections are waiting to send their request, the most the node keeps",
-                admission.pending
+            refusals.log(
+                &address.to_string(),
+                &format!(
+                    "a connection closed: {} connections are waiting to send their request, the \
+                     most the node keeps",
+                    admission.pending
+                ),
             );
             continue;
         };
@@ -175,8 +190,9 @@ pub async fn accept(
             seat: Arc::new(seat),
         };
         let router = router.clone();
+        let refusals = Arc::clone(&refusals);
         tokio::spawn(async move {
-            serve_connection(stream, peer, router, admission).await;
+            serve_connection(stream, peer, router, admission, &refusals).await;
             drop(permit);
         });
     }
@@ -188,6 +204,7 @@ async fn serve_connection(
     peer: Peer,
     router: Router,
     admission: Admission,
+    refusals: &Refusals,
 ) {
     let address = peer.address;
     let service = hyper::service::service_fn(move |mut request: hyper::Request<Incoming>| {
@@ -203,16 +220,20 @@ async fn serve_connection(
         .with_upgrades();
     match tokio::time::timeout(admission.request_timeout, connection).await {
         Ok(Ok(())) => {}
-        Ok(Err(error)) if error.is_timeout() => tracing::warn!(
-            peer = %address,
-            "a connection closed: no complete request headers within {:?}",
-            admission.header_timeout
+        Ok(Err(error)) if error.is_timeout() => refusals.log(
+            &address.to_string(),
+            &format!(
+                "a connection closed: no complete request headers within {:?}",
+                admission.header_timeout
+            ),
         ),
         Ok(Err(error)) => tracing::debug!(peer = %address, %error, "a connection failed"),
-        Err(_) => tracing::warn!(
-            peer = %address,
-            "a connection closed: its request was not done within {:?}",
-            admission.request_timeout
+        Err(_) => refusals.log(
+            &address.to_string(),
+            &format!(
+                "a connection closed: its request was not done within {:?}",
+                admission.request_timeout
+            ),
         ),
     }
 }

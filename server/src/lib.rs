@@ -20,6 +20,7 @@ pub mod connection;
 pub mod front;
 pub mod node;
 mod panel;
+mod refusals;
 pub mod rosapi;
 pub mod rosbridge;
 pub use cooperation_adapters::engine::scenes;
@@ -90,6 +91,7 @@ struct App {
     places: Arc<[Arc<Semaphore>]>,
     limits: Limits,
     access: Arc<Access>,
+    refusals: Arc<refusals::Refusals>,
 }
 
 impl Options {
@@ -164,6 +166,11 @@ pub async fn serve(
                 .map(|_| Arc::new(Semaphore::new(credentials.places)))
         })
         .collect();
+    let refusals = Arc::new(refusals::Refusals::default());
+    let summaries = tokio::spawn(sum_up(
+        Arc::clone(&refusals),
+        options.admission.refusal_log_every,
+    ));
     let app = App {
         node,
         clients: Arc::new(Semaphore::new(options.max_clients)),
@@ -171,13 +178,14 @@ pub async fn serve(
         places,
         limits: options.limits,
         access: Arc::new(options.access),
+        refusals: Arc::clone(&refusals),
     };
     let router = Router::new()
         .route("/", get(root))
         .merge(panel::routes())
         .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
         .with_state(app);
-    let served = front::accept(listener, router, options.admission, shutdown);
+    let served = front::accept(listener, router, options.admission, refusals, shutdown);
     let served = tokio::select! {
         () = served => Ok(()),
         stopped = &mut publisher => Err(std::io::Error::other(format!(
@@ -189,7 +197,21 @@ pub async fn serve(
     };
     publisher.abort();
     ticker.abort();
+    summaries.abort();
     served
+}
+
+/// Ends a period of the log of refusals every `every`.
+async fn sum_up(refusals: Arc<refusals::Refusals>, every: Duration) {
+    let mut interval = tokio::time::interval(every);
+    interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    interval.tick().await;
+    loop {
+        interval.tick().await;
+        if let Some(summary) = refusals.end_period() {
+            tracing::warn!("{summary}");
+        }
+    }
 }
 
 /// Binds `address`.
@@ -204,7 +226,12 @@ pub async fn bind(address: SocketAddr) -> std::io::Result<TcpListener> {
 /// accepted ([`access`]); else served, with the headers that forbid framing its page.
 async fn guard(Extracted(app): Extracted<App>, request: Request, next: Next) -> Response {
     if let Err(refusal) = app.access.check(request.headers()) {
-        tracing::warn!("a request refused: {refusal}");
+        let peer = request
+            .extensions()
+            .get::<front::Peer>()
+            .map_or_else(|| "unknown".to_owned(), |peer| peer.address.to_string());
+        app.refusals
+            .log(&peer, &format!("a request refused: {refusal}"));
         return (refusal.status(), refusal.to_string()).into_response();
     }
     let mut response = next.run(request).await;
@@ -234,7 +261,8 @@ async fn root(
     let admitted = match admit(&app, &headers, &uri) {
         Ok(admitted) => admitted,
         Err((status, why)) => {
-            tracing::warn!(peer = %address, "a client refused: {why}");
+            app.refusals
+                .log(&address, &format!("a client refused: {why}"));
             let mut response = (status, why).into_response();
             if status == StatusCode::UNAUTHORIZED {
                 response

@@ -86,6 +86,8 @@ async fn every_limit_is_logged_when_it_bites() {
             header_timeout: Duration::from_millis(200),
             pending: 2,
             per_peer: 1,
+            // Each refusal logged whole: a period ends between any two.
+            refusal_log_every: Duration::from_millis(20),
             ..Admission::default()
         },
         ..Options::default()
@@ -102,6 +104,8 @@ async fn every_limit_is_logged_when_it_bites() {
     let served = serve(Options {
         admission: Admission {
             pending: 1,
+            // Each refusal logged whole: a period ends between any two.
+            refusal_log_every: Duration::from_millis(20),
             ..Admission::default()
         },
         ..Options::default()
@@ -162,8 +166,14 @@ async fn every_limit_is_logged_when_it_bites() {
         1,
     )
     .expect("credentials");
+    // Refusals after a period's first are summed up at its end (here, every 200 ms): the
+    // second refusal below is said in that summary.
     let served = serve(Options {
         credentials: Some(credentials),
+        admission: Admission {
+            refusal_log_every: Duration::from_millis(200),
+            ..Admission::default()
+        },
         ..Options::default()
     })
     .await;
@@ -178,4 +188,70 @@ async fn every_limit_is_logged_when_it_bites() {
         Some(503)
     );
     logged("credential \"panel\" has 1 connections open, the most it may have").await;
+}
+
+/// Asks for a WebSocket from `from` (a loopback address) with a token the node does not know;
+/// the status line of the answer.
+async fn knock(at: &str, from: &str) -> String {
+    let socket = tokio::net::TcpSocket::new_v4().expect("a socket");
+    socket
+        .bind(format!("{from}:0").parse().expect("an address"))
+        .expect("bound");
+    let mut stream = socket
+        .connect(at.parse().expect("an address"))
+        .await
+        .expect("connects");
+    let request = format!(
+        "GET /?token=not-a-token-of-this-node-0123456789 HTTP/1.1\r\nHost: {at}\r\n\
+         Connection: Upgrade\r\nUpgrade: websocket\r\nSec-WebSocket-Version: 13\r\n\
+         Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n"
+    );
+    tokio::io::AsyncWriteExt::write_all(&mut stream, request.as_bytes())
+        .await
+        .expect("sent");
+    let mut answer = vec![0; 512];
+    let n = stream.read(&mut answer).await.expect("an answer");
+    String::from_utf8_lossy(&answer[..n])
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .to_owned()
+}
+
+/// A client guessing tokens does not fill the log: of a burst of 40 refused clients, the first
+/// of each period is logged whole and the rest summed up in one line at the period's end.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_burst_of_refused_clients_is_summed_up_not_logged_one_by_one() {
+    log();
+    let credentials = Credentials::parse(
+        "operator panel burst-operator-0123456789abcdef",
+        &["intersection"],
+        1,
+    )
+    .expect("credentials");
+    let served = serve(Options {
+        credentials: Some(credentials),
+        admission: Admission {
+            refusal_log_every: Duration::from_secs(1),
+            ..Admission::default()
+        },
+        ..Options::default()
+    })
+    .await;
+    let at = address(&served.url);
+    for _ in 0..40 {
+        assert_eq!(knock(&at, "127.0.0.77").await, "HTTP/1.1 401 Unauthorized");
+    }
+    logged("refused since the last refusal logged, from 1 address(es), 127.0.0.77; the last: a client refused: a credential the node does not have").await;
+    let text =
+        String::from_utf8_lossy(&log().lock().unwrap_or_else(PoisonError::into_inner)).into_owned();
+    let whole = text
+        .lines()
+        .filter(|line| line.contains("peer=127.0.0.77:") && line.contains("a client refused"))
+        .count();
+    // 40 refusals within a second or two: one period, or two if they straddle its end.
+    assert!(
+        (1..=2).contains(&whole),
+        "{whole} lines logged whole:\n{text}"
+    );
 }
