@@ -6,10 +6,10 @@
 //! message is converted into the core's types, so that the error names the field. Where the
 //! constants stand for one of the core's enums, the macro writes the table once, both ways.
 
-/// Declares a constant message: the struct (the derives every message has; its serde attributes
-/// are given), its constants, `new`, `constant_name`, and, given `=> Enum::Variant` for every constant
-/// that stands for one, `meaning` (the variant of a value, if it is a constant that has one),
-/// `of` and `From<Enum>` (the value of a variant).
+/// Declares a constant message: the struct (the derives every message has; its serde
+/// attributes are given), its constants, `new`, `constant_name`, and, given `=> Enum::Variant`
+/// for every constant that stands for one, `meaning` (the variant of a value, if it is a
+/// constant that has one), `of` and `From<Enum>` (the value of a variant).
 macro_rules! constant_message {
     (
         $(#[$meta:meta])*
@@ -102,8 +102,9 @@ macro_rules! constant_message {
                 Self { $field }
             }
 
-            /// The name of the constant the value is, as ROS writes it (`Message.CONSTANT`),
-            /// if it is one.
+            /// The name of the constant the value is, if it is one: the type as this crate names
+            /// it and the constant as ROS does (`CooperationDecision.UNKNOWN`; `Lifecycle.RUNNING`
+            /// for `tier4_rtc_msgs/State`'s `RUNNING`).
             #[must_use]
             pub const fn constant_name(&self) -> Option<&'static str> {
                 match self.$field {
