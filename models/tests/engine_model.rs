@@ -2,9 +2,8 @@
 //! it, checked to completion with every property holding, and each property failing on its own
 //! planted fault in the engine.
 
-use cooperation_models::check::pins;
+use cooperation_models::check::{failing, pins};
 use cooperation_models::model::engine::{self, EngineBounds, EngineFault, EngineModel};
-use stateright::{Checker, Model};
 
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
@@ -31,27 +30,6 @@ fn geometry(velocity: bool) -> EngineModel {
         velocity,
     })
     .expect("valid bounds")
-}
-
-/// The properties that fail on `model`, always-properties with a counterexample and
-/// sometimes-properties without a witness; and the unique state count.
-fn failing(model: EngineModel) -> (Vec<&'static str>, usize) {
-    let properties = model.properties();
-    let checker = model.checker().threads(2).spawn_bfs().join();
-    assert!(checker.is_done(), "the search ended");
-    let failing = properties
-        .iter()
-        .filter(|property| {
-            let found = checker.discovery(property.name).is_some();
-            match property.expectation {
-                stateright::Expectation::Always => found,
-                stateright::Expectation::Sometimes => !found,
-                stateright::Expectation::Eventually => found,
-            }
-        })
-        .map(|property| property.name)
-        .collect();
-    (failing, checker.unique_state_count())
 }
 
 /// Every property holds, every witness is reached, and the count is the pinned one.

@@ -17,3 +17,38 @@ pub mod run;
 pub mod simulate;
 pub mod summary;
 pub mod trace;
+
+use stateright::{Checker, Expectation, Model};
+
+/// Checks `model` to completion breadth first on two threads: the properties that fail
+/// (always-properties with a counterexample, sometimes-properties without a witness) and the
+/// unique state count. The tests of the engine and relay models use it; a model focused on one
+/// property stops at its first counterexample.
+///
+/// # Panics
+/// If the search did not end (it has no budget).
+#[allow(clippy::panic)]
+pub fn failing<M>(model: M) -> (Vec<&'static str>, usize)
+where
+    M: Model + Send + Sync + 'static,
+    M::State: Clone + std::fmt::Debug + std::hash::Hash + PartialEq + Send + Sync + 'static,
+    M::Action: Clone + std::fmt::Debug + PartialEq + Send + Sync + 'static,
+{
+    let properties = model.properties();
+    let checker = model.checker().threads(2).spawn_bfs().join();
+    if !checker.is_done() {
+        panic!("the search did not end");
+    }
+    let failing = properties
+        .iter()
+        .filter(|property| {
+            let found = checker.discovery(property.name).is_some();
+            match property.expectation {
+                Expectation::Always | Expectation::Eventually => found,
+                Expectation::Sometimes => !found,
+            }
+        })
+        .map(|property| property.name)
+        .collect();
+    (failing, checker.unique_state_count())
+}
