@@ -65,6 +65,7 @@ pub mod dds;
 pub mod engine;
 mod host;
 mod path;
+pub mod relay;
 pub mod rtc;
 #[doc = include_str!("../docs/settings.md")]
 pub mod settings;
@@ -80,6 +81,9 @@ pub use uuid::Uuid;
 
 pub mod guide {
     //! Guides for this crate's users, with examples that compile and run as doctests.
+
+    #[doc = include_str!("../docs/relay.md")]
+    pub mod relay {}
 
     #[doc = include_str!("../docs/rtc.md")]
     pub mod rtc {}
