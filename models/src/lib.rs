@@ -33,5 +33,6 @@ pub use model::engine::{EngineBounds, EngineFault, EngineModel};
 pub use model::fault::Fault;
 pub use model::ids::ModelError;
 pub use model::network::{NetBounds, NetworkModel, Views};
+pub use model::relay::{RelayBounds, RelayFault, RelayModel};
 pub use model::rtc::{RtcBounds, RtcFault, RtcModel};
 pub use model::sequential::{Bounds, SequentialModel, Step};

@@ -147,6 +147,11 @@ pub fn rows(root: &Path) -> Vec<Row> {
                 .iter()
                 .map(|p| (p.name, always(&p.expectation))),
         )
+        .chain(
+            cooperation_models::model::relay::properties()
+                .iter()
+                .map(|p| (p.name, always(&p.expectation))),
+        )
         .collect();
     spec_tags(&spec)
         .into_iter()

@@ -209,6 +209,27 @@ pub const RTC_QUOTA: Pin = Pin {
     generated: None,
 };
 
+/// The relay model: an operator and one upstream planning module, 1 identifier, 2 operator
+/// calls, 1 module move, 1 loss.
+pub const RELAY_1: Pin = Pin {
+    test: "models/tests/relay_model.rs::the_relay_meets_its_rules",
+    model: "relay",
+    bounds: "1 id, 2 calls, 1 move, 1 loss",
+    search: "BFS",
+    unique: 287_061,
+    generated: None,
+};
+
+/// The relay model with 2 identifiers (a long check).
+pub const RELAY_2: Pin = Pin {
+    test: "models/tests/relay_model.rs::the_relay_meets_its_rules_with_two_scenes",
+    model: "relay",
+    bounds: "2 ids, 2 calls, 1 move, 1 loss",
+    search: "BFS",
+    unique: 3_284_478,
+    generated: None,
+};
+
 /// The engine model: a host driving the service engine, 2 identifiers, its clock to 3 ms.
 pub const ENGINE_2: Pin = Pin {
     test: "models/tests/engine_model.rs::the_engine_meets_its_rules",
@@ -240,7 +261,7 @@ pub const ENGINE_GEOMETRY_VELOCITY: Pin = Pin {
 };
 
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 21] = [
+pub const ALL: [Pin; 23] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -262,6 +283,8 @@ pub const ALL: [Pin; 21] = [
     ENGINE_2,
     ENGINE_GEOMETRY_STEERING,
     ENGINE_GEOMETRY_VELOCITY,
+    RELAY_1,
+    RELAY_2,
 ];
 
 /// The pin of the configuration the reach table names so, if one is pinned.

@@ -7,6 +7,8 @@
 //! - [`rtc`]: the RTC adapter (`cooperation_adapters::rtc`) over the core, call by call.
 //! - [`engine`]: the service engine (`cooperation_adapters::engine`) as a host drives it, its clock
 //!   running between calls.
+//! - [`relay`]: the relay (`cooperation_adapters::relay`) between an operator and a planning
+//!   module that behaves as upstream's `rtc_interface`, calls and answers lost.
 //! - [`trivial`]: a model with no logic, for the checker's raw throughput.
 //! - [`spec`]: the spec as the properties state it, its tables read from its text and its rules
 //!   written from its words: an oracle compared with, never used to move a state.
@@ -19,6 +21,7 @@ pub mod engine;
 pub mod fault;
 pub mod ids;
 pub mod network;
+pub mod relay;
 pub mod rtc;
 pub mod sequential;
 pub mod spec;

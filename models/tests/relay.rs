@@ -1,0 +1,529 @@
+//! The relay (`cooperation_adapters::relay`) beside planning modules that behave as upstream's
+//! `rtc_interface` ([`Upstream`], written from the upstream facts): the design page's sequence,
+//! a refused forward, a module that does not answer, auto-mode switches with standing operator
+//! decisions, a module restart, and what the relay refuses.
+//!
+//! After every exchange settles (no call on its way, every module's newest messages taken),
+//! each module's `isActivated` is the merged decision the AD API shows.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::collections::BTreeMap;
+
+use cooperation::{Config, Decision, OperatorDecision, Phase, Policy, SceneId};
+use cooperation_adapters::engine::{Engine, Now, Options};
+use cooperation_adapters::relay::{
+    ArrayError, ModuleAnswer, ModuleRequest, OperatorCall, Relay, DEADLINE_MS,
+};
+use cooperation_adapters::rtc::{self, Rtc};
+use cooperation_adapters::wire::{self, ResponseStatus};
+use cooperation_adapters::Time;
+use cooperation_models::model::relay::peer::Upstream;
+
+const LANE: &str = "lane_change_left";
+const CROSS: &str = "intersection";
+
+/// The relay and two upstream modules, on one clock.
+struct Bench {
+    relay: Relay,
+    modules: BTreeMap<&'static str, Upstream>,
+    clock_ms: i64,
+    next_operator: u64,
+    /// Whether a module answers the calls it gets.
+    answering: BTreeMap<&'static str, bool>,
+}
+
+impl Bench {
+    /// Every policy as upstream's `enable_rtc` says; both modules built with it.
+    fn new(enable_rtc: bool) -> Self {
+        let config = Config::new(Rtc::standard().policies(enable_rtc));
+        let engine = Engine::new(config, Options::default()).unwrap();
+        let modules = BTreeMap::from([
+            (
+                LANE,
+                Upstream::new(rtc::Module::LANE_CHANGE_LEFT, enable_rtc),
+            ),
+            (CROSS, Upstream::new(rtc::Module::INTERSECTION, enable_rtc)),
+        ]);
+        Self {
+            relay: Relay::new(engine, DEADLINE_MS),
+            answering: modules.keys().map(|&name| (name, true)).collect(),
+            modules,
+            clock_ms: 0,
+            next_operator: 0,
+        }
+    }
+
+    fn now(&self) -> Now {
+        Now::of_stamp(Time::new(
+            i32::try_from(self.clock_ms / 1000).unwrap() + 100,
+            u32::try_from(self.clock_ms % 1000).unwrap() * 1_000_000,
+        ))
+    }
+
+    /// The operator decision the AD API shows for scene `n`.
+    fn operator_decision(&self, n: u128) -> OperatorDecision {
+        self.relay.state().scene(id(n)).unwrap().operator_decision()
+    }
+
+    /// Module `name` registers scene `n`, waiting, `safe` or not.
+    fn register(&mut self, name: &str, n: u128, safe: bool) {
+        self.module(name).update(id(n), safe, Phase::Waiting, false);
+    }
+
+    fn module(&mut self, name: &str) -> &mut Upstream {
+        self.modules.get_mut(name).unwrap()
+    }
+
+    /// One planning cycle (10 ms): each module publishes, the relay takes it.
+    fn cycle(&mut self) {
+        self.clock_ms += 10;
+        let now = self.now();
+        for (name, module) in &self.modules {
+            let array = module.status_array(now.stamp);
+            let taken = self.relay.take_statuses(name, &array, now).unwrap();
+            assert!(taken.refused.is_empty(), "{name}: {:?}", taken.refused);
+            self.relay
+                .take_auto_mode(name, &module.auto_mode_status(), now)
+                .unwrap();
+        }
+        self.relay.handle_timeout(now);
+    }
+
+    /// Delivers every call the relay has, and every answer, until nothing moves.
+    fn pump(&mut self) {
+        let now = self.now();
+        while let Some(forward) = self.relay.poll_forward(now) {
+            let name = forward.interface.as_str();
+            if !self.answering.get(name).copied().unwrap_or(false) {
+                continue;
+            }
+            let module = self.modules.get_mut(name).expect("a relayed module");
+            let answer = match &forward.request {
+                ModuleRequest::Commands(request) => {
+                    ModuleAnswer::Commands(module.cooperate_commands(request))
+                }
+                ModuleRequest::AutoMode(request) => {
+                    ModuleAnswer::AutoMode(module.enable_auto_mode(request.enable))
+                }
+            };
+            assert!(self.relay.take_answer(forward.call, &answer, now));
+        }
+    }
+
+    /// Cycles until the relay has nothing on its way and a cycle changes nothing.
+    fn settle(&mut self) {
+        for _ in 0..50 {
+            self.pump();
+            let before = self.modules.clone();
+            self.cycle();
+            self.pump();
+            if self.relay.is_idle() && before == self.modules {
+                self.cycle();
+                if self.relay.is_idle() {
+                    return;
+                }
+            }
+        }
+        panic!("the relay did not settle");
+    }
+
+    /// Each module drives every scene it lists as the AD API shows it.
+    fn assert_follows(&self) {
+        for (name, module) in &self.modules {
+            for status in &module.statuses {
+                let merged = self.relay.state().merged_decision(status.id);
+                let activated = module.is_activated(status.id);
+                assert_eq!(
+                    merged.map(|d| d == Decision::Activate),
+                    Some(activated),
+                    "{name}: scene {} drives {activated}, the AD API shows {merged:?}",
+                    status.id
+                );
+            }
+        }
+    }
+
+    /// An operator's call; its answer once the modules are done.
+    fn operator(&mut self, request: wire::Request) -> wire::Response {
+        let call = OperatorCall(self.next_operator);
+        self.next_operator += 1;
+        let now = self.now();
+        if let Some(response) = self.relay.handle_operator(call, &request, now) {
+            return response;
+        }
+        for _ in 0..200 {
+            self.pump();
+            if let Some((answered, response)) = self.relay.poll_answer() {
+                assert_eq!(answered, call);
+                return response;
+            }
+            self.clock_ms += 10;
+            let now = self.now();
+            self.relay.handle_timeout(now);
+        }
+        panic!("no answer");
+    }
+}
+
+fn command(id: SceneId, decision: OperatorDecision) -> wire::Request {
+    let json = format!(
+        r#"{{"commands": [{{"uuid": {{"uuid": {:?}}}, "cooperator": {{"decision": {}}}}}]}}"#,
+        id.to_bytes(),
+        match decision {
+            OperatorDecision::Deactivate => 1,
+            OperatorDecision::Activate => 2,
+            OperatorDecision::Autonomous => 3,
+            OperatorDecision::Undecided => 4,
+        }
+    );
+    wire::Service::SetCommands.read(json.as_bytes()).unwrap()
+}
+
+fn policy(behavior: &str, policy: Policy) -> wire::Request {
+    let json = format!(
+        r#"{{"policies": [{{"behavior": "{behavior}", "sequence": "", "policy": {}}}]}}"#,
+        match policy {
+            Policy::Optional => 1,
+            Policy::Required => 2,
+        }
+    );
+    wire::Service::SetPolicies.read(json.as_bytes()).unwrap()
+}
+
+fn status(response: &wire::Response) -> &ResponseStatus {
+    response.status()
+}
+
+fn id(n: u128) -> SceneId {
+    SceneId::from_u128(n)
+}
+
+#[test]
+fn coop_relay_forward_1_the_design_pages_sequence_runs_through_the_modules_own_endpoints() {
+    let mut bench = Bench::new(true);
+    // The lane change module creates a scene; it judges the change unsafe.
+    bench.register(LANE, 1, false);
+    bench.settle();
+    // The operator sees it in the factors, undecided, held back by the required policy.
+    let publication = bench.relay.poll_publication(bench.now()).unwrap();
+    let factor = &publication.steering.factors[0];
+    assert_eq!(factor.cooperation.len(), 1);
+    assert!(!bench.module(LANE).is_activated(id(1)));
+    // The operator activates it: forwarded to the module, which takes it.
+    let response = bench.operator(command(id(1), OperatorDecision::Activate));
+    assert!(status(&response).success, "{:?}", status(&response));
+    assert!(bench.module(LANE).is_activated(id(1)));
+    assert_eq!(bench.operator_decision(1), OperatorDecision::Activate);
+    bench.settle();
+    bench.assert_follows();
+}
+
+#[test]
+fn coop_relay_success_1_a_command_the_module_refuses_is_not_shown_and_not_a_success() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, true);
+    bench.settle();
+    // The module drops the scene; the relay has not heard yet.
+    bench.module(LANE).remove(id(1));
+    let response = bench.operator(command(id(1), OperatorDecision::Activate));
+    let status = status(&response);
+    assert!(!status.success);
+    assert_eq!(status.code, ResponseStatus::PARAMETER_ERROR);
+    assert!(
+        status.message.contains("lane_change_left refused scene"),
+        "{status:?}"
+    );
+    assert_eq!(bench.operator_decision(1), OperatorDecision::Undecided);
+    bench.settle();
+    assert!(
+        bench.relay.state().scene(id(1)).is_none(),
+        "gone from the array: removed"
+    );
+}
+
+#[test]
+fn coop_relay_success_1_a_module_that_does_not_answer_gets_a_timeout_naming_it() {
+    let mut bench = Bench::new(true);
+    bench.register(CROSS, 2, true);
+    bench.settle();
+    bench.answering.insert(CROSS, false);
+    let response = bench.operator(command(id(2), OperatorDecision::Activate));
+    let status = status(&response);
+    assert!(!status.success);
+    assert_eq!(status.code, ResponseStatus::SERVICE_TIMEOUT);
+    assert!(
+        status
+            .message
+            .contains("intersection did not answer within 1000 ms"),
+        "{status:?}"
+    );
+    assert_eq!(bench.operator_decision(2), OperatorDecision::Undecided);
+}
+
+#[test]
+fn coop_relay_policy_1_a_policy_switch_keeps_the_standing_operator_decisions_on_the_module() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, false);
+    bench.register(LANE, 3, true);
+    bench.settle();
+    let response = bench.operator(command(id(1), OperatorDecision::Activate));
+    assert!(status(&response).success);
+    // Optional: upstream's switch sets every scene's auto_mode, the operator's included.
+    let response = bench.operator(policy("lane-change", Policy::Optional));
+    assert!(status(&response).success, "{:?}", status(&response));
+    bench.settle();
+    // Scene 1 still drives by the operator (the module thinks it unsafe); scene 3 by the module.
+    assert!(bench.module(LANE).is_activated(id(1)));
+    assert!(bench.module(LANE).is_activated(id(3)));
+    bench.assert_follows();
+    let response = bench.operator(policy("lane-change", Policy::Required));
+    assert!(status(&response).success);
+    bench.settle();
+    assert!(bench.module(LANE).is_activated(id(1)));
+    assert!(!bench.module(LANE).is_activated(id(3)));
+    bench.assert_follows();
+}
+
+#[test]
+fn coop_relay_follow_1_a_module_switched_by_someone_else_is_switched_back() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, true);
+    bench.register(LANE, 4, true);
+    bench.settle();
+    let response = bench.operator(command(id(4), OperatorDecision::Deactivate));
+    assert!(status(&response).success);
+    bench.module(LANE).enable_auto_mode(true);
+    assert!(bench.module(LANE).is_activated(id(1)));
+    bench.settle();
+    assert!(!bench.module(LANE).auto_mode);
+    bench.assert_follows();
+}
+
+#[test]
+fn coop_relay_report_1_a_restarted_module_has_new_scenes_and_its_old_ones_retire() {
+    let mut bench = Bench::new(false);
+    bench.register(LANE, 1, true);
+    bench.settle();
+    let response = bench.operator(command(id(1), OperatorDecision::Deactivate));
+    assert!(status(&response).success);
+    // The planner restarts: a new interface, built with enable_rtc = true, new identifiers.
+    *bench.module(LANE) = Upstream::new(rtc::Module::LANE_CHANGE_LEFT, true);
+    bench.register(LANE, 5, true);
+    bench.settle();
+    assert!(bench.relay.state().scene(id(1)).is_none());
+    assert!(bench.relay.state().retirement(id(1)).is_some());
+    // The AD API's policy (optional) is put back on the module.
+    assert!(bench.module(LANE).auto_mode);
+    bench.assert_follows();
+}
+
+#[test]
+fn coop_relay_report_1_a_silent_module_s_scenes_age_out() {
+    let mut bench = Bench::new(true);
+    bench.register(CROSS, 2, true);
+    bench.settle();
+    let ttl = bench.relay.state().limits().ttl_ms;
+    bench.clock_ms += i64::try_from(ttl).unwrap() + 1;
+    let now = bench.now();
+    bench.relay.handle_timeout(now);
+    assert!(bench.relay.state().scene(id(2)).is_none());
+}
+
+#[test]
+fn coop_relay_inexpressible_1_commands_a_module_cannot_take_are_refused_and_nothing_is_forwarded() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, true);
+    bench.settle();
+    for decision in [OperatorDecision::Autonomous, OperatorDecision::Undecided] {
+        let now = bench.now();
+        let response = bench
+            .relay
+            .handle_operator(OperatorCall(99), &command(id(1), decision), now)
+            .expect("answered at once");
+        let status = status(&response);
+        assert!(!status.success);
+        assert_eq!(
+            status.message,
+            format!(
+                "commands[0] sets scene {} to {decision}, which a planning module's RTC \
+                 interface cannot take for one scene (it takes activate or deactivate)",
+                id(1)
+            )
+        );
+        assert!(bench.relay.poll_forward(now).is_none());
+    }
+    // The core's refusals come first: an unknown scene is the core's.
+    let now = bench.now();
+    let response = bench
+        .relay
+        .handle_operator(
+            OperatorCall(100),
+            &command(id(9), OperatorDecision::Activate),
+            now,
+        )
+        .expect("answered at once");
+    assert!(
+        status(&response).message.contains("unknown scene"),
+        "{:?}",
+        status(&response)
+    );
+    assert!(bench.relay.poll_forward(now).is_none());
+}
+
+#[test]
+fn coop_relay_report_1_late_repeated_and_undefined_arrays_are_refused_whole() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, true);
+    bench.cycle();
+    let now = bench.now();
+    let array = bench.module(LANE).status_array(now.stamp);
+    let error = bench.relay.take_statuses(LANE, &array, now).unwrap_err();
+    assert!(matches!(error, ArrayError::Late { .. }), "{error}");
+    assert!(error.to_string().contains("late or repeated, not taken"));
+    let mut array = bench.module(LANE).status_array(Time::new(9_999, 0));
+    array.statuses[0].state = rtc::Lifecycle::new(7);
+    let error = bench.relay.take_statuses(LANE, &array, now).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "the status array of lane_change_left is refused: statuses[0].state.type is 7, which is \
+         not WAITING_FOR_EXECUTION (0), RUNNING (1), ABORTING (2), SUCCEEDED (3) or FAILED (4)"
+    );
+    let error = bench
+        .relay
+        .take_statuses("nowhere", &array, now)
+        .unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "no RTC interface named nowhere is relayed"
+    );
+    assert!(bench.relay.state().scene(id(1)).is_some());
+}
+
+#[test]
+fn coop_relay_inexpressible_1_policies_that_split_an_interface_and_scenes_no_module_reported() {
+    let mut bench = Bench::new(true);
+    let now = bench.now();
+    let json = br#"{"policies": [{"behavior": "avoidance", "sequence": "change", "policy": 1}]}"#;
+    let request = wire::Service::SetPolicies.read(json).unwrap();
+    let response = bench
+        .relay
+        .handle_operator(OperatorCall(1), &request, now)
+        .expect("answered at once");
+    assert_eq!(
+        status(&response).message,
+        "the policies would differ between the modules of static_obstacle_avoidance_left, which \
+         has one auto-mode switch for all of them"
+    );
+    assert_eq!(
+        bench
+            .relay
+            .state()
+            .policy(cooperation::Module::with_sequence(
+                cooperation::Behavior::Avoidance,
+                cooperation::Sequence::Change
+            )),
+        Some(Policy::Required)
+    );
+    // A core a host fed itself: its scene has no module to forward to.
+    let config = Config::new(Rtc::standard().policies(true));
+    let mut state = cooperation::State::new(config).unwrap();
+    let lane = cooperation::Module::new(cooperation::Behavior::LaneChange);
+    let geometry = cooperation::Geometry::steering(cooperation::Direction::Left, 10.0, 60.0);
+    state
+        .apply(&cooperation::Input::Register {
+            id: id(6),
+            module: lane,
+            report: cooperation::Report::new(Decision::Activate, geometry),
+        })
+        .unwrap();
+    let engine = Engine::from_state(state, Options::default()).unwrap();
+    let mut relay = Relay::new(engine, DEADLINE_MS);
+    let response = relay
+        .handle_operator(
+            OperatorCall(2),
+            &command(id(6), OperatorDecision::Activate),
+            now,
+        )
+        .expect("answered at once");
+    assert_eq!(
+        status(&response).message,
+        format!(
+            "commands[0] names scene {}, which no relayed planning module reported: there is no \
+             module to forward it to",
+            id(6)
+        )
+    );
+    assert!(relay.poll_forward(now).is_none());
+}
+
+#[test]
+fn coop_relay_success_1_what_one_module_took_applies_when_another_refused() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, true);
+    bench.register(CROSS, 2, true);
+    bench.settle();
+    bench.module(CROSS).remove(id(2));
+    let json = format!(
+        r#"{{"commands": [{{"uuid": {{"uuid": {:?}}}, "cooperator": {{"decision": 2}}}},
+                          {{"uuid": {{"uuid": {:?}}}, "cooperator": {{"decision": 2}}}}]}}"#,
+        id(1).to_bytes(),
+        id(2).to_bytes()
+    );
+    let request = wire::Service::SetCommands.read(json.as_bytes()).unwrap();
+    let response = bench.operator(request);
+    let status = status(&response);
+    assert!(!status.success);
+    assert_eq!(
+        status.message,
+        format!("1 of 2 applied; intersection refused scene {}", id(2))
+    );
+    assert_eq!(bench.operator_decision(1), OperatorDecision::Activate);
+    assert!(bench.module(LANE).is_activated(id(1)));
+}
+
+#[test]
+fn coop_relay_forward_1_a_module_has_one_call_unanswered_at_a_time() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, true);
+    bench.register(LANE, 3, true);
+    bench.settle();
+    let now = bench.now();
+    for (call, scene) in [(1, id(1)), (2, id(3))] {
+        let request = command(scene, OperatorDecision::Activate);
+        assert!(bench
+            .relay
+            .handle_operator(OperatorCall(call), &request, now)
+            .is_none());
+    }
+    let first = bench.relay.poll_forward(now).expect("the first call");
+    assert!(bench.relay.poll_forward(now).is_none(), "the second waits");
+    let ModuleRequest::Commands(request) = &first.request else {
+        panic!("a commands call");
+    };
+    assert_eq!(SceneId::from(request.commands[0].uuid), id(1));
+    let answer = ModuleAnswer::Commands(bench.module(LANE).cooperate_commands(request));
+    assert!(bench.relay.take_answer(first.call, &answer, now));
+    let second = bench.relay.poll_forward(now).expect("now the second");
+    let ModuleRequest::Commands(request) = &second.request else {
+        panic!("a commands call");
+    };
+    assert_eq!(SceneId::from(request.commands[0].uuid), id(3));
+}
+
+#[test]
+fn coop_relay_report_1_a_finished_scene_still_listed_is_not_reported_again() {
+    let mut bench = Bench::new(false);
+    bench.register(LANE, 1, true);
+    bench.settle();
+    bench
+        .module(LANE)
+        .update(id(1), true, Phase::Running, false);
+    bench
+        .module(LANE)
+        .update(id(1), true, Phase::Succeeded, false);
+    // Each cycle asserts that no status was refused.
+    bench.settle();
+    assert!(bench.relay.state().scene(id(1)).is_none());
+    assert!(bench.relay.state().retirement(id(1)).is_some());
+}

@@ -1,0 +1,59 @@
+//! The relay model (`cooperation_models::model::relay`): the relay between an operator and a
+//! planning module that behaves as upstream's `rtc_interface`, checked to completion with every
+//! property holding, and each property failing on a planted fault.
+
+use cooperation_models::check::{failing, pins};
+use cooperation_models::model::relay::{self, RelayBounds, RelayFault, RelayModel};
+
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+fn model(bounds: RelayBounds) -> RelayModel {
+    RelayModel::new(bounds).expect("valid bounds")
+}
+
+/// One identifier, two operator calls, one module move and one loss.
+const BOUNDS: RelayBounds = RelayBounds {
+    scenes: 1,
+    operator_calls: 2,
+    module_moves: 1,
+    losses: 1,
+};
+
+/// Every property holds and every witness is reached.
+#[test]
+fn the_relay_meets_its_rules() {
+    let (failing, unique) = failing(model(BOUNDS));
+    println!("relay model, {BOUNDS:?}: {unique} unique states");
+    assert_eq!(failing, Vec::<&str>::new());
+    assert_eq!(unique, pins::RELAY_1.unique);
+}
+
+/// Each property fails on its planted fault.
+#[test]
+fn each_property_fails_on_its_planted_fault() {
+    for (fault, property) in [
+        (RelayFault::SuccessOnTimeout, relay::SUCCESS),
+        (RelayFault::AnsweredForModule, relay::SHOWN),
+        (RelayFault::CommandsInverted, relay::SHOWN),
+        (RelayFault::LateArrayRestamped, relay::SCENES),
+        (RelayFault::LateArrayRestamped, relay::FOLLOW),
+    ] {
+        let (failing, _) = failing(model(BOUNDS).with_fault(fault).focus(property));
+        assert_eq!(failing, vec![property], "{fault:?}");
+    }
+}
+
+/// Two identifiers at the same budgets: about 3.3 million states, a minute on two threads.
+#[test]
+#[ignore = "a long check: cargo test --release -p cooperation-models -- --ignored"]
+fn the_relay_meets_its_rules_with_two_scenes() {
+    let bounds = RelayBounds {
+        scenes: 2,
+        ..BOUNDS
+    };
+    let (failing, unique) = failing(model(bounds));
+    println!("relay model, {bounds:?}: {unique} unique states");
+    assert_eq!(failing, Vec::<&str>::new());
+    assert_eq!(unique, pins::RELAY_2.unique);
+}
