@@ -527,3 +527,20 @@ fn coop_relay_report_1_a_finished_scene_still_listed_is_not_reported_again() {
     assert!(bench.relay.state().scene(id(1)).is_none());
     assert!(bench.relay.state().retirement(id(1)).is_some());
 }
+
+#[test]
+fn coop_relay_report_1_an_avoidance_scene_is_the_shift_outs() {
+    let mut bench = Bench::new(true);
+    const AVOID: &str = "static_obstacle_avoidance_left";
+    bench
+        .modules
+        .insert(AVOID, Upstream::new(rtc::Module::AVOIDANCE_LEFT, true));
+    bench.answering.insert(AVOID, true);
+    bench.register(AVOID, 7, true);
+    bench.settle();
+    let module = bench.relay.state().scene(id(7)).unwrap().module();
+    assert_eq!(module.sequence, cooperation::Sequence::Change);
+    let response = bench.operator(command(id(7), OperatorDecision::Activate));
+    assert!(status(&response).success);
+    bench.assert_follows();
+}

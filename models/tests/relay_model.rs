@@ -44,7 +44,7 @@ fn each_property_fails_on_its_planted_fault() {
     }
 }
 
-/// Two identifiers at the same budgets: about 3.3 million states, a minute on two threads.
+/// Two identifiers at the same budgets: about 6.3 million states, three minutes on two threads.
 #[test]
 #[ignore = "a long check: cargo test --release -p cooperation-models -- --ignored"]
 fn the_relay_meets_its_rules_with_two_scenes() {
@@ -56,4 +56,19 @@ fn the_relay_meets_its_rules_with_two_scenes() {
     println!("relay model, {bounds:?}: {unique} unique states");
     assert_eq!(failing, Vec::<&str>::new());
     assert_eq!(unique, pins::RELAY_2.unique);
+}
+
+/// One identifier and two module moves, so that a scene runs and then finishes or aborts
+/// between two of the module's arrays: about 2.3 million states, a minute on two threads.
+#[test]
+#[ignore = "a long check: cargo test --release -p cooperation-models -- --ignored"]
+fn the_relay_meets_its_rules_with_two_module_moves() {
+    let bounds = RelayBounds {
+        module_moves: 2,
+        ..BOUNDS
+    };
+    let (failing, unique) = failing(model(bounds));
+    println!("relay model, {bounds:?}: {unique} unique states");
+    assert_eq!(failing, Vec::<&str>::new());
+    assert_eq!(unique, pins::RELAY_1_TWO_MOVES.unique);
 }

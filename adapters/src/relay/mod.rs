@@ -182,7 +182,8 @@ impl Relay {
     /// a status the adapter refuses is listed with its reason, and the others still count.
     ///
     /// # Errors
-    /// [`ArrayError`]; nothing changed.
+    /// [`ArrayError`]; nothing of the array reached the core (the core was still told the
+    /// time).
     pub fn take_statuses(
         &mut self,
         interface: &str,
@@ -721,11 +722,30 @@ impl Hash for Relay {
 }
 
 /// Reports `report` through `interface`. An array is a sample of the module's statuses: a
-/// waiting scene the array shows succeeded or aborting ran in between, the only way there upstream
-/// and here, so it is reported running first (`[COOP-RELAY-REPORT.1]`).
+/// waiting or new scene the array shows succeeded or aborting ran in between, the only way there
+/// upstream and here, so it is reported running first (`[COOP-RELAY-REPORT.1]`).
 fn report_sampled(host: &mut Host, interface: &str, report: &StatusReport) -> Result<(), RtcError> {
-    let waiting =
-        host.state().scene(report.id).map(cooperation::Scene::phase) == Some(Phase::Waiting);
+    let unstated = report.sequence.is_none() && host.state().scene(report.id).is_none();
+    let first = host
+        .rtc()
+        .bindings()
+        .iter()
+        .find(|binding| binding.name == interface)
+        .filter(|binding| binding.sequences.len() > 1)
+        .and_then(|binding| binding.sequences.first().cloned());
+    let stated;
+    let report = match first {
+        // Upstream's status carries no sequence: a new scene of an interface that binds several
+        // is its first's (avoidance: the shift out) (`[COOP-RELAY-REPORT.1]`).
+        Some(sequence) if unstated => {
+            stated = report.in_sequence(sequence);
+            &stated
+        }
+        _ => report,
+    };
+    let phase = host.state().scene(report.id).map(cooperation::Scene::phase);
+    let new = phase.is_none() && host.state().retirement(report.id).is_none();
+    let waiting = new || phase == Some(Phase::Waiting);
     if waiting && matches!(report.phase, Phase::Succeeded | Phase::Aborting) {
         let running = StatusReport {
             phase: Phase::Running,

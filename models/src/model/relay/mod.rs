@@ -72,8 +72,8 @@ pub struct RelayBounds {
     pub scenes: usize,
     /// Operator calls.
     pub operator_calls: u8,
-    /// Module moves other than registering: a change of `safe`, running, removal, a restart,
-    /// a switch by someone else.
+    /// Module moves other than registering: a change of `safe`, running, finishing, aborting,
+    /// removal, a restart, a switch by someone else.
     pub module_moves: u8,
     /// Calls and answers lost, together.
     pub losses: u8,
@@ -88,6 +88,10 @@ pub enum RelayAction {
     Flip(SceneId),
     /// The module starts running a scene.
     Run(SceneId),
+    /// The module finishes a running scene (succeeded).
+    Finish(SceneId),
+    /// The module aborts a running scene.
+    Abort(SceneId),
     /// The module removes a scene.
     Remove(SceneId),
     /// The planner restarts: its interface is new, built with `enable_rtc = true`.
@@ -395,6 +399,10 @@ impl Model for RelayModel {
                     if status.phase == Phase::Waiting {
                         actions.push(RelayAction::Run(id));
                     }
+                    if status.phase == Phase::Running {
+                        actions.push(RelayAction::Finish(id));
+                        actions.push(RelayAction::Abort(id));
+                    }
                     actions.push(RelayAction::Remove(id));
                 }
                 _ => {}
@@ -448,12 +456,16 @@ impl Model for RelayModel {
                 next.used.insert(id);
                 next.dirty = true;
             }
-            RelayAction::Flip(id) | RelayAction::Run(id) => {
+            RelayAction::Flip(id)
+            | RelayAction::Run(id)
+            | RelayAction::Finish(id)
+            | RelayAction::Abort(id) => {
                 let status = next.module.statuses.iter().find(|s| s.id == id)?;
-                let (safe, phase) = if action == RelayAction::Flip(id) {
-                    (!status.safe, status.phase)
-                } else {
-                    (status.safe, Phase::Running)
+                let (safe, phase) = match action {
+                    RelayAction::Flip(_) => (!status.safe, status.phase),
+                    RelayAction::Run(_) => (status.safe, Phase::Running),
+                    RelayAction::Finish(_) => (status.safe, Phase::Succeeded),
+                    _ => (status.safe, Phase::Aborting),
                 };
                 let requested = status.requested;
                 next.module.update(id, safe, phase, requested);
