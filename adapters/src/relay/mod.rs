@@ -51,7 +51,8 @@ pub const DEADLINE_MS: u64 = 1_000;
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 pub struct CallId(pub u64);
 
-/// One operator's call, numbered by the host.
+/// One operator's call, numbered by the host: a number is not given to a second call while the
+/// first awaits its answer (the second would take its place).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 pub struct OperatorCall(pub u64);
 
@@ -412,9 +413,10 @@ impl Relay {
         }
         if switched.is_empty() {
             // No module to tell: the core's alone.
+            let len = policies.len();
             let input = Input::SetPolicies { policies };
             let (result, _) = self.engine.call(|host| host.state_mut().apply(&input));
-            return Err(ResponseStatus::for_batch(1, &result));
+            return Err(ResponseStatus::for_batch(len, &result));
         }
         let parts = switched
             .into_iter()
