@@ -40,8 +40,9 @@ fn read_dirs(dirs: &[&str]) -> String {
 /// The shipped code: the core and its adapters (the AD API calls and the RTC deviations are
 /// the adapters').
 const SHIPPED: [&str; 2] = ["src", "adapters/src"];
-/// The core's tests and the adapters'.
-const TESTS: [&str; 2] = ["tests", "adapters/tests"];
+/// The core's tests, the adapters' and the models' (the relay's scenarios run beside the models'
+/// upstream peer): the places `cargo xtask docs` reads tests from too.
+const TESTS: [&str; 3] = ["tests", "adapters/tests", "models/tests"];
 
 fn test_name(tag: &str) -> String {
     tag.to_lowercase().replace(['-', '.'], "_")

@@ -199,8 +199,10 @@ fn id(n: u128) -> SceneId {
     SceneId::from_u128(n)
 }
 
+/// The design page's sequence through a module's own endpoints: the scene is shown, the
+/// operator's command reaches the module, and only then the AD API shows it.
 #[test]
-fn coop_relay_forward_1_the_design_pages_sequence_runs_through_the_modules_own_endpoints() {
+fn coop_relay_forward_1() {
     let mut bench = Bench::new(true);
     // The lane change module creates a scene; it judges the change unsafe.
     bench.register(LANE, 1, false);
@@ -219,8 +221,9 @@ fn coop_relay_forward_1_the_design_pages_sequence_runs_through_the_modules_own_e
     bench.assert_follows();
 }
 
+/// A command the module refuses is not shown and is not a success.
 #[test]
-fn coop_relay_success_1_a_command_the_module_refuses_is_not_shown_and_not_a_success() {
+fn coop_relay_success_1() {
     let mut bench = Bench::new(true);
     bench.register(LANE, 1, true);
     bench.settle();
@@ -261,8 +264,9 @@ fn coop_relay_success_1_a_module_that_does_not_answer_gets_a_timeout_naming_it()
     assert_eq!(bench.operator_decision(2), OperatorDecision::Undecided);
 }
 
+/// A policy switch keeps the standing operator decisions on the module.
 #[test]
-fn coop_relay_policy_1_a_policy_switch_keeps_the_standing_operator_decisions_on_the_module() {
+fn coop_relay_policy_1() {
     let mut bench = Bench::new(true);
     bench.register(LANE, 1, false);
     bench.register(LANE, 3, true);
@@ -285,8 +289,9 @@ fn coop_relay_policy_1_a_policy_switch_keeps_the_standing_operator_decisions_on_
     bench.assert_follows();
 }
 
+/// A module switched by someone else is switched back, its standing decisions sent again.
 #[test]
-fn coop_relay_follow_1_a_module_switched_by_someone_else_is_switched_back() {
+fn coop_relay_follow_1() {
     let mut bench = Bench::new(true);
     bench.register(LANE, 1, true);
     bench.register(LANE, 4, true);
@@ -330,8 +335,10 @@ fn coop_relay_report_1_a_silent_module_s_scenes_age_out() {
     assert!(bench.relay.state().scene(id(2)).is_none());
 }
 
+/// Commands a module cannot take are refused and nothing is forwarded; the core's refusals
+/// come first.
 #[test]
-fn coop_relay_inexpressible_1_commands_a_module_cannot_take_are_refused_and_nothing_is_forwarded() {
+fn coop_relay_inexpressible_1() {
     let mut bench = Bench::new(true);
     bench.register(LANE, 1, true);
     bench.settle();
@@ -371,8 +378,9 @@ fn coop_relay_inexpressible_1_commands_a_module_cannot_take_are_refused_and_noth
     assert!(bench.relay.poll_forward(now).is_none());
 }
 
+/// Late, repeated and undefined arrays, and unknown interfaces, are refused whole.
 #[test]
-fn coop_relay_report_1_late_repeated_and_undefined_arrays_are_refused_whole() {
+fn coop_relay_report_1() {
     let mut bench = Bench::new(true);
     bench.register(LANE, 1, true);
     bench.cycle();
