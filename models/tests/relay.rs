@@ -552,3 +552,36 @@ fn coop_relay_report_1_an_avoidance_scene_is_the_shift_outs() {
     assert!(status(&response).success);
     bench.assert_follows();
 }
+
+#[test]
+fn coop_relay_policy_1_the_standing_decisions_follow_the_switch_at_once() {
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, false);
+    bench.settle();
+    let response = bench.operator(command(id(1), OperatorDecision::Activate));
+    assert!(status(&response).success);
+    let now = bench.now();
+    let request = policy("lane-change", Policy::Optional);
+    assert!(bench
+        .relay
+        .handle_operator(OperatorCall(50), &request, now)
+        .is_none());
+    let switch = bench.relay.poll_forward(now).expect("the switch");
+    assert_eq!(
+        switch.request,
+        ModuleRequest::AutoMode(rtc::AutoModeRequest { enable: true })
+    );
+    let answer = ModuleAnswer::AutoMode(bench.module(LANE).enable_auto_mode(true));
+    assert!(bench.relay.take_answer(switch.call, &answer, now));
+    // No array has come since: the standing decision goes out with the switch's answer.
+    let resend = bench
+        .relay
+        .poll_forward(now)
+        .expect("the standing decision again");
+    let ModuleRequest::Commands(request) = &resend.request else {
+        panic!("a commands call");
+    };
+    assert_eq!(request.commands.len(), 1);
+    assert_eq!(SceneId::from(request.commands[0].uuid), id(1));
+    assert_eq!(request.commands[0].command.r#type, rtc::Command::ACTIVATE);
+}
