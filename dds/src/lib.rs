@@ -15,6 +15,7 @@
     clippy::indexing_slicing
 )]
 
+mod entities;
 pub mod graph;
 pub mod node;
 pub mod raw;
