@@ -585,3 +585,30 @@ fn coop_relay_policy_1_the_standing_decisions_follow_the_switch_at_once() {
     assert_eq!(SceneId::from(request.commands[0].uuid), id(1));
     assert_eq!(request.commands[0].command.r#type, rtc::Command::ACTIVATE);
 }
+
+#[test]
+fn coop_relay_policy_1_a_switch_the_module_answered_is_not_sent_again() {
+    // Auto mode on (optional), then required: the module switches it off.
+    let mut bench = Bench::new(false);
+    bench.register(LANE, 1, false);
+    bench.settle();
+    let response = bench.operator(command(id(1), OperatorDecision::Activate));
+    assert!(status(&response).success);
+    let response = bench.operator(policy("lane-change", Policy::Required));
+    assert!(status(&response).success);
+    bench.pump();
+    // The module's next array comes before its auto-mode status, which still said "on" when
+    // the relay last read it: the switch it answered is not sent again.
+    bench.clock_ms += 10;
+    let now = bench.now();
+    let array = bench.module(LANE).status_array(now.stamp);
+    bench.relay.take_statuses(LANE, &array, now).unwrap();
+    bench.relay.handle_timeout(now);
+    while let Some(forward) = bench.relay.poll_forward(now) {
+        assert_ne!(
+            forward.request,
+            ModuleRequest::AutoMode(rtc::AutoModeRequest { enable: false }),
+            "the switch sent again"
+        );
+    }
+}

@@ -44,7 +44,7 @@ fn each_property_fails_on_its_planted_fault() {
     }
 }
 
-/// Two identifiers at the same budgets: about 6.3 million states, three minutes on two threads.
+/// Two identifiers at the same budgets: about 3.8 million states, a minute and a half on two threads.
 #[test]
 #[ignore = "a long check: cargo test --release -p cooperation-models -- --ignored"]
 fn the_relay_meets_its_rules_with_two_scenes() {
@@ -59,7 +59,7 @@ fn the_relay_meets_its_rules_with_two_scenes() {
 }
 
 /// One identifier and two module moves, so that a scene runs and then finishes or aborts
-/// between two of the module's arrays: about 2.3 million states, a minute on two threads.
+/// between two of the module's arrays: about 1.3 million states, forty seconds on two threads.
 #[test]
 #[ignore = "a long check: cargo test --release -p cooperation-models -- --ignored"]
 fn the_relay_meets_its_rules_with_two_module_moves() {

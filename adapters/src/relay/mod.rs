@@ -504,13 +504,19 @@ impl Relay {
                 }
                 true
             }
-            (ModuleRequest::AutoMode(_), ModuleAnswer::AutoMode(success)) => {
+            (ModuleRequest::AutoMode(request), ModuleAnswer::AutoMode(success)) => {
                 if let Purpose::Operator(operator) = flight.purpose {
                     if let Some(pending) = self.operators.get_mut(&operator) {
                         pending.auto_mode_answered(call, *success);
                     }
                 }
                 if *success {
+                    // The module says it switched: its auto-mode status, which may come after
+                    // the next status array, is not waited for, so that the switch is not sent
+                    // again (each switch overwrites the standing decisions for a moment).
+                    if let Some(link) = self.links.get_mut(&flight.interface) {
+                        link.auto_mode = Some(request.enable);
+                    }
                     self.resend_standing(&flight.interface);
                 }
                 true

@@ -216,7 +216,7 @@ pub const RELAY_1: Pin = Pin {
     model: "relay",
     bounds: "1 id, 2 calls, 1 move, 1 loss",
     search: "BFS",
-    unique: 287_061,
+    unique: 166_464,
     generated: None,
 };
 
@@ -226,7 +226,7 @@ pub const RELAY_2: Pin = Pin {
     model: "relay",
     bounds: "2 ids, 2 calls, 1 move, 1 loss",
     search: "BFS",
-    unique: 6_303_207,
+    unique: 3_847_635,
     generated: None,
 };
 
@@ -237,7 +237,7 @@ pub const RELAY_1_TWO_MOVES: Pin = Pin {
     model: "relay",
     bounds: "1 id, 2 calls, 2 moves, 1 loss",
     search: "BFS",
-    unique: 2_310_278,
+    unique: 1_324_594,
     generated: None,
 };
 
