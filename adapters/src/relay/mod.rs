@@ -23,6 +23,7 @@
 //! a rule of the core: every change is an input to the core through the adapters.
 
 mod error;
+pub mod factors;
 mod link;
 mod pending;
 
