@@ -193,3 +193,162 @@ pub fn to_cdr(reply: &Reply) -> Result<Vec<u8>, CdrError> {
         Reply::Sync(response) => cdr::to_vec(response),
     }
 }
+
+/// A planning module's RTC interface as upstream's `rtc_interface` names it
+/// (`/planning/cooperate_status/<name>` and the others): the DDS names and types of its four
+/// endpoints, and its requests and answers in CDR, for a node that calls it
+/// ([`relay`](crate::relay)).
+///
+/// ```
+/// use cooperation_adapters::dds::{ModuleEndpoints, RequestHeader};
+/// use cooperation_adapters::relay::{ModuleAnswer, ModuleRequest};
+/// use cooperation_adapters::rtc::{AutoModeRequest, AutoModeResponse};
+/// use cooperation_adapters::cdr;
+///
+/// let module = ModuleEndpoints::new("intersection");
+/// assert_eq!(module.status_topic(), "rt/planning/cooperate_status/intersection");
+/// assert_eq!(module.auto_mode_request_topic(), "rq/planning/enable_auto_mode/intersectionRequest");
+///
+/// let header = RequestHeader { guid: 3, seq: 9 };
+/// let request = module.request(header, &ModuleRequest::AutoMode(AutoModeRequest { enable: true }))?;
+/// assert_eq!(RequestHeader::split(&request)?.0, header);
+///
+/// // The module's reply, as its server frames it.
+/// let reply = header.frame(&cdr::to_vec(&AutoModeResponse { success: true })?);
+/// assert_eq!(module.auto_mode_answer(&reply)?, (header, ModuleAnswer::AutoMode(true)));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+pub struct ModuleEndpoints {
+    name: String,
+}
+
+impl ModuleEndpoints {
+    /// The ROS 2 type of the status topic.
+    pub const STATUS_TYPE: &'static str = "tier4_rtc_msgs/msg/CooperateStatusArray";
+    /// The ROS 2 type of the auto-mode status topic.
+    pub const AUTO_MODE_STATUS_TYPE: &'static str = "tier4_rtc_msgs/msg/AutoModeStatus";
+    /// The ROS 2 type of the command service.
+    pub const COMMANDS_TYPE: &'static str = "tier4_rtc_msgs/srv/CooperateCommands";
+    /// The ROS 2 type of the auto-mode service.
+    pub const AUTO_MODE_TYPE: &'static str = "tier4_rtc_msgs/srv/AutoMode";
+
+    /// The endpoints of the interface `name` (`lane_change_left`, …).
+    #[must_use]
+    pub fn new(name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+        }
+    }
+
+    /// The interface's name.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The ROS 2 name of the status topic, `/planning/cooperate_status/<name>`.
+    #[must_use]
+    pub fn status(&self) -> String {
+        format!("/planning/cooperate_status/{}", self.name)
+    }
+
+    /// The ROS 2 name of the auto-mode status topic, `/planning/auto_mode_status/<name>`.
+    #[must_use]
+    pub fn auto_mode_status(&self) -> String {
+        format!("/planning/auto_mode_status/{}", self.name)
+    }
+
+    /// The ROS 2 name of the command service, `/planning/cooperate_commands/<name>`.
+    #[must_use]
+    pub fn commands(&self) -> String {
+        format!("/planning/cooperate_commands/{}", self.name)
+    }
+
+    /// The ROS 2 name of the auto-mode service, `/planning/enable_auto_mode/<name>`.
+    #[must_use]
+    pub fn auto_mode(&self) -> String {
+        format!("/planning/enable_auto_mode/{}", self.name)
+    }
+
+    /// The DDS topic of the statuses.
+    #[must_use]
+    pub fn status_topic(&self) -> String {
+        topic(&self.status())
+    }
+
+    /// The DDS topic of the auto-mode statuses.
+    #[must_use]
+    pub fn auto_mode_status_topic(&self) -> String {
+        topic(&self.auto_mode_status())
+    }
+
+    /// The DDS topic the command service's requests go to.
+    #[must_use]
+    pub fn commands_request_topic(&self) -> String {
+        format!("rq{}Request", self.commands())
+    }
+
+    /// The DDS topic the command service's replies come from.
+    #[must_use]
+    pub fn commands_reply_topic(&self) -> String {
+        format!("rr{}Reply", self.commands())
+    }
+
+    /// The DDS topic the auto-mode service's requests go to.
+    #[must_use]
+    pub fn auto_mode_request_topic(&self) -> String {
+        format!("rq{}Request", self.auto_mode())
+    }
+
+    /// The DDS topic the auto-mode service's replies come from.
+    #[must_use]
+    pub fn auto_mode_reply_topic(&self) -> String {
+        format!("rr{}Reply", self.auto_mode())
+    }
+
+    /// `request` in CDR with `header` in front of its fields.
+    ///
+    /// # Errors
+    /// A UUID that is not 16 bytes long (never in a request the relay makes).
+    pub fn request(
+        &self,
+        header: RequestHeader,
+        request: &crate::relay::ModuleRequest,
+    ) -> Result<Vec<u8>, CdrError> {
+        let message = match request {
+            crate::relay::ModuleRequest::Commands(request) => cdr::to_vec(request)?,
+            crate::relay::ModuleRequest::AutoMode(request) => cdr::to_vec(request)?,
+        };
+        Ok(header.frame(&message))
+    }
+
+    /// A reply of the command service: its header and the answer.
+    ///
+    /// # Errors
+    /// Bytes that are not a framed `CooperateCommands` response.
+    pub fn commands_answer(
+        &self,
+        framed: &[u8],
+    ) -> Result<(RequestHeader, crate::relay::ModuleAnswer), CdrError> {
+        let (header, message) = RequestHeader::split(framed)?;
+        let response: crate::rtc::CooperateCommandsResponse = cdr::from_slice(&message)?;
+        Ok((header, crate::relay::ModuleAnswer::Commands(response)))
+    }
+
+    /// A reply of the auto-mode service: its header and the answer.
+    ///
+    /// # Errors
+    /// Bytes that are not a framed `AutoMode` response.
+    pub fn auto_mode_answer(
+        &self,
+        framed: &[u8],
+    ) -> Result<(RequestHeader, crate::relay::ModuleAnswer), CdrError> {
+        let (header, message) = RequestHeader::split(framed)?;
+        let response: crate::rtc::AutoModeResponse = cdr::from_slice(&message)?;
+        Ok((
+            header,
+            crate::relay::ModuleAnswer::AutoMode(response.success),
+        ))
+    }
+}

@@ -8,9 +8,9 @@ use std::time::{Duration, Instant};
 
 use cooperation_adapters::cdr;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
-use cooperation_adapters::engine::Publication;
+use cooperation_adapters::engine::{Publication, Request};
 use cooperation_adapters::wire;
-use rustdds::mio1::{Interest, Poll, Token};
+use rustdds::mio1::{Events, Interest, Poll, Token};
 use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::policy::{Durability, History, Reliability};
 use rustdds::{
@@ -26,10 +26,10 @@ use crate::raw::{Raw, RawAdapter};
 pub const REPLY_WAIT: Duration = Duration::from_millis(100);
 
 /// How often the poll wakes while replies wait for their readers.
-pub(crate) const REPLY_POLL: Duration = Duration::from_millis(2);
+const REPLY_POLL: Duration = Duration::from_millis(2);
 
 /// The longest the poll sleeps, whatever the publication interval: how soon a stop is seen.
-pub(crate) const STOP_POLL: Duration = Duration::from_millis(100);
+const STOP_POLL: Duration = Duration::from_millis(100);
 
 /// The participant a DDS entity belongs to: its GUID's prefix.
 pub(crate) fn participant_of(guid: GUID) -> [u8; 12] {
@@ -211,21 +211,49 @@ impl Server {
         }
     }
 
-    /// The next request's bytes and the participant of the client that sent it; `None` when
-    /// none waits (a failed read is logged and tried again on the next turn).
-    pub(crate) fn next_request(&mut self) -> Option<([u8; 12], Vec<u8>)> {
-        match self.requests.take_next_sample() {
-            Ok(Some(sample)) => {
-                let client = participant_of(sample.sample_info().writer_guid());
-                let Raw(bytes) = sample.into_value();
-                Some((client, bytes))
-            }
-            Ok(None) => None,
-            Err(error) => {
-                tracing::warn!(service = self.endpoint.name(), %error, "requests not read");
-                None
+    /// The next request that can be answered: the participant of the client that sent it, its
+    /// header, and what it asks ([`Request::Malformed`] for one that does not read, logged).
+    /// `None` when none waits; a request too short for its headers is logged and dropped, and a
+    /// failed read is logged and tried again on the next turn.
+    pub(crate) fn next_request(&mut self) -> Option<([u8; 12], RequestHeader, Request)> {
+        let name = self.endpoint.name();
+        loop {
+            let sample = match self.requests.take_next_sample() {
+                Ok(Some(sample)) => sample,
+                Ok(None) => return None,
+                Err(error) => {
+                    tracing::warn!(service = name, %error, "requests not read");
+                    return None;
+                }
+            };
+            let client = participant_of(sample.sample_info().writer_guid());
+            let Raw(bytes) = sample.into_value();
+            match self.endpoint.read(&bytes) {
+                Ok((header, request)) => {
+                    if let Request::Malformed(_, error) = &request {
+                        tracing::warn!(service = name, %error, "a malformed request refused");
+                    }
+                    return Some((client, header, request));
+                }
+                Err(error) => tracing::warn!(service = name, %error, "a request left unanswered"),
             }
         }
+    }
+}
+
+/// Waits for `poll`'s events: at most until a publication is due, and no longer than
+/// [`REPLY_POLL`] while something is on its way (`busy`), else [`STOP_POLL`].
+pub(crate) fn wait(
+    poll: &mut Poll,
+    events: &mut Events,
+    busy: bool,
+    until_publication: Duration,
+) -> Result<(), String> {
+    let timeout = if busy { REPLY_POLL } else { STOP_POLL }.min(until_publication);
+    match poll.poll(events, Some(timeout)) {
+        Ok(()) => Ok(()),
+        Err(error) if error.kind() == std::io::ErrorKind::Interrupted => Ok(()),
+        Err(error) => Err(format!("poll: {error}")),
     }
 }
 
@@ -332,7 +360,15 @@ impl Factors {
 
     /// Writes both arrays of `publication`.
     pub(crate) fn publish(&self, publication: &Publication) {
-        let (velocity, steering) = (&publication.velocity, &publication.steering);
+        self.write(&publication.velocity, &publication.steering);
+    }
+
+    /// Writes both arrays.
+    pub(crate) fn write(
+        &self,
+        velocity: &wire::VelocityFactorArray,
+        steering: &wire::SteeringFactorArray,
+    ) {
         for (writer, sample, name) in [
             (
                 &self.velocity,

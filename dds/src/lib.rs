@@ -17,7 +17,10 @@
 
 mod entities;
 pub mod graph;
+mod module;
 pub mod node;
 pub mod raw;
+pub mod stack;
 
 pub use node::{Node, Options};
+pub use stack::Stack;

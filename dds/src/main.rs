@@ -9,11 +9,12 @@ use std::time::Duration;
 
 use clap::Parser;
 use cooperation_dds::graph::Distro;
-use cooperation_dds::{Node, Options};
+use cooperation_dds::{Node, Options, Stack};
 
 /// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
 /// steering factors) and the planning modules' sync service as a ROS 2 node over DDS, as
-/// rmw_cyclonedds_cpp speaks it.
+/// rmw_cyclonedds_cpp speaks it; with --stack, the AD API over the planning modules' own RTC
+/// endpoints instead.
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
@@ -43,6 +44,15 @@ struct Args {
     /// Live scenes each RTC interface may hold.
     #[arg(long, default_value_t = cooperation_adapters::rtc::SCENE_QUOTA)]
     scene_quota: usize,
+    /// The stack mode (docs/autoware.md): relay the AD API to the planning modules' own RTC
+    /// endpoints (`/planning/cooperate_status/<name>` and the others) instead of serving the
+    /// sync service.
+    #[arg(long)]
+    stack: bool,
+    /// In the stack mode, how long a module has to answer a call, in milliseconds.
+    #[arg(long, default_value_t = cooperation_adapters::relay::DEADLINE_MS, requires = "stack",
+          value_parser = clap::value_parser!(u64).range(1..=60_000))]
+    deadline_ms: u64,
 }
 
 fn main() -> ExitCode {
@@ -91,16 +101,33 @@ fn run(args: Args) -> Result<(), String> {
         signal_hook::flag::register(signal, Arc::clone(&stop))
             .map_err(|error| format!("signal {signal}: {error}"))?;
     }
-    let mut node = Node::new(config, options.clone())?;
-    tracing::info!(
-        "serving node {}{}{} on DDS domain {} (ROS 2 {:?}, Cyclone DDS's service mapping)",
+    let name = format!(
+        "{}{}{}",
         options.namespace,
         if options.namespace.ends_with('/') {
             ""
         } else {
             "/"
         },
-        options.name,
+        options.name
+    );
+    if args.stack {
+        let deadline = Duration::from_millis(args.deadline_ms);
+        let mut stack = Stack::new(config, options.clone(), deadline)?;
+        tracing::info!(
+            "serving node {name} on DDS domain {} (ROS 2 {:?}) in the stack mode: the AD API over \
+             the RTC interfaces {}",
+            options.domain,
+            options.distro,
+            stack.interfaces().collect::<Vec<_>>().join(", "),
+        );
+        stack.run(&stop)?;
+        tracing::info!("shutting down");
+        return Ok(());
+    }
+    let mut node = Node::new(config, options.clone())?;
+    tracing::info!(
+        "serving node {name} on DDS domain {} (ROS 2 {:?}, Cyclone DDS's service mapping)",
         options.domain,
         options.distro,
     );

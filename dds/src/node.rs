@@ -15,13 +15,13 @@ use std::time::Duration;
 use cooperation::Config;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::Endpoint;
-use cooperation_adapters::engine::{self, Engine, Request};
+use cooperation_adapters::engine::{self, Engine};
 use cooperation_adapters::Shared;
 use rustdds::mio1::{Events, Poll};
 use rustdds::{DomainParticipant, RTPSEntity};
 
 pub use crate::entities::REPLY_WAIT;
-use crate::entities::{Factors, Participant, Replies, Server, REPLY_POLL, STOP_POLL};
+use crate::entities::{wait, Factors, Participant, Replies, Server};
 use crate::graph::Distro;
 use crate::raw::{Raw, RawAdapter};
 
@@ -168,17 +168,12 @@ impl Node {
             let now = self.clock.now();
             let until_publication =
                 Duration::from_millis(self.shared.read(|engine| engine.until_publication_ms(now)));
-            let timeout = if self.replies.is_empty() {
-                STOP_POLL
-            } else {
-                REPLY_POLL
-            }
-            .min(until_publication);
-            match self.poll.poll(&mut events, Some(timeout)) {
-                Ok(()) => {}
-                Err(error) if error.kind() == std::io::ErrorKind::Interrupted => {}
-                Err(error) => return Err(format!("poll: {error}")),
-            }
+            wait(
+                &mut self.poll,
+                &mut events,
+                !self.replies.is_empty(),
+                until_publication,
+            )?;
             self.step();
         }
         Ok(())
@@ -205,19 +200,9 @@ impl Node {
                 return;
             };
             let endpoint = server.endpoint;
-            let Some((client, bytes)) = server.next_request() else {
+            let Some((client, header, incoming)) = server.next_request() else {
                 return;
             };
-            let (header, incoming) = match endpoint.read(&bytes) {
-                Ok(read) => read,
-                Err(error) => {
-                    tracing::warn!(service = endpoint.name(), %error, "a request refused unanswered");
-                    continue;
-                }
-            };
-            if let Request::Malformed(_, error) = &incoming {
-                tracing::warn!(service = endpoint.name(), %error, "a malformed request refused");
-            }
             let now = self.clock.now();
             let handled = self.shared.update(|engine| engine.handle(incoming, now));
             if !handled.reply.success() {

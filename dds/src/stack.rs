@@ -1,0 +1,415 @@
+//! The stack mode: the AD API over the planning modules of a stock Autoware stack.
+//!
+//! Beside an unmodified stack the planning modules keep their own RTC interfaces. The stack
+//! node reads each interface's `/planning/cooperate_status/<name>` and
+//! `/planning/auto_mode_status/<name>`, calls its `/planning/cooperate_commands/<name>` and
+//! `/planning/enable_auto_mode/<name>`, and serves the AD API's cooperation services and factor
+//! topics; what each message means is [`Relay`]'s to decide (spec §6.8). The node owns its
+//! relay: one thread polls every entity, so nothing is shared and nothing is locked.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use cooperation::Config;
+use cooperation_adapters::clock::Clock;
+use cooperation_adapters::dds::{Endpoint, RequestHeader};
+use cooperation_adapters::engine::{Engine, Now, Reply, Request};
+use cooperation_adapters::relay::{self, factors, ModuleAnswer, OperatorCall, Relay};
+use cooperation_adapters::wire::{self, Service};
+use rustdds::mio1::{Events, Interest, Poll, Token};
+use rustdds::{DomainParticipant, RTPSEntity};
+
+use crate::entities::{wait, Factors, Participant, Replies, Server};
+use crate::module::{Heard, Module};
+use crate::raw::{Raw, RawAdapter};
+use crate::Options;
+
+/// The first poll token of the modules' readers (the servers take the ones below).
+const MODULE_TOKENS: usize = 1_000;
+
+/// The poll tokens of the stack's factor readers.
+const INPUT_TOKENS: usize = 900;
+
+/// An operator's call the modules have not all answered yet: where its reply goes.
+struct Awaiting {
+    server: usize,
+    client: [u8; 12],
+    header: RequestHeader,
+}
+
+/// The stack's own factors (`default_adapi`'s, remapped), the newest of each topic with when
+/// it came (`[COOP-RELAY-FACTORS.1]`).
+struct Input {
+    velocity_reader: rustdds::no_key::DataReader<Raw, RawAdapter>,
+    steering_reader: rustdds::no_key::DataReader<Raw, RawAdapter>,
+    velocity: Option<(wire::VelocityFactorArray, Instant)>,
+    steering: Option<(wire::SteeringFactorArray, Instant)>,
+}
+
+impl Input {
+    fn open(participant: &Participant, poll: &Poll) -> Result<Self, String> {
+        let qos = crate::entities::qos(rustdds::policy::Durability::Volatile, 1);
+        let type_name = |name| cooperation_adapters::dds::type_name(name, "");
+        let mut velocity_reader = participant.reader(
+            &cooperation_adapters::dds::topic(factors::VELOCITY_INPUT),
+            &type_name(wire::VELOCITY_FACTORS_TYPE),
+            &qos,
+        )?;
+        let mut steering_reader = participant.reader(
+            &cooperation_adapters::dds::topic(factors::STEERING_INPUT),
+            &type_name(wire::STEERING_FACTORS_TYPE),
+            &qos,
+        )?;
+        for (reader, token) in [
+            (&mut velocity_reader, INPUT_TOKENS),
+            (&mut steering_reader, INPUT_TOKENS + 1),
+        ] {
+            poll.registry()
+                .register(reader, Token(token), Interest::READABLE)
+                .map_err(|error| format!("poll: {error}"))?;
+        }
+        Ok(Self {
+            velocity_reader,
+            steering_reader,
+            velocity: None,
+            steering: None,
+        })
+    }
+
+    /// Takes what came; whether anything did.
+    fn take(&mut self) -> bool {
+        let velocity = newest(&mut self.velocity_reader, factors::VELOCITY_INPUT);
+        let steering = newest(&mut self.steering_reader, factors::STEERING_INPUT);
+        let came = velocity.is_some() || steering.is_some();
+        if let Some(array) = velocity {
+            self.velocity = Some((array, Instant::now()));
+        }
+        if let Some(array) = steering {
+            self.steering = Some((array, Instant::now()));
+        }
+        came
+    }
+
+    /// Whether an array came within the last [`factors::INPUT_TTL_MS`].
+    fn fresh<T>(input: Option<&(T, Instant)>) -> Option<&T> {
+        input
+            .filter(|(_, came)| came.elapsed() <= Duration::from_millis(factors::INPUT_TTL_MS))
+            .map(|(array, _)| array)
+    }
+}
+
+/// The newest message of `reader` that reads; one that does not is logged and dropped.
+fn newest<T: serde::de::DeserializeOwned>(
+    reader: &mut rustdds::no_key::DataReader<Raw, RawAdapter>,
+    topic: &str,
+) -> Option<T> {
+    let mut newest = None;
+    loop {
+        match reader.take_next_sample() {
+            Ok(Some(sample)) => match cooperation_adapters::cdr::from_slice(&sample.into_value().0)
+            {
+                Ok(message) => newest = Some(message),
+                Err(error) => tracing::warn!(topic, %error, "a message that does not read dropped"),
+            },
+            Ok(None) => return newest,
+            Err(error) => {
+                tracing::warn!(topic, %error, "not read");
+                return newest;
+            }
+        }
+    }
+}
+
+/// The stack node.
+pub struct Stack {
+    relay: Relay,
+    clock: Clock,
+    options: Options,
+    poll: Poll,
+    servers: Vec<Server>,
+    modules: Vec<Module>,
+    factors: Factors,
+    input: Input,
+    /// The engine's newest publication: the scenes' factors.
+    scenes: Option<cooperation_adapters::engine::Publication>,
+    replies: Replies,
+    awaiting: BTreeMap<OperatorCall, Awaiting>,
+    next_operator: u64,
+    /// Kept for the life of the node: the graph's sample is transient-local.
+    _graph: rustdds::no_key::DataWriter<Raw, RawAdapter>,
+    /// Kept last: the entities above belong to it.
+    _participant: DomainParticipant,
+}
+
+impl core::fmt::Debug for Stack {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Stack")
+            .field("options", &self.options)
+            .field("modules", &self.modules.len())
+            .field("awaiting", &self.awaiting.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Stack {
+    /// A stack node over a new core with `config`: the AD API's services and factor topics, and
+    /// the endpoints of every RTC interface the core binds, each module given `deadline` to
+    /// answer.
+    ///
+    /// # Errors
+    /// The core's refusal of the configuration, or what DDS could not create.
+    pub fn new(config: Config, options: Options, deadline: Duration) -> Result<Self, String> {
+        let engine = Engine::new(config, options.engine()).map_err(|error| error.to_string())?;
+        let relay = Relay::new(
+            engine,
+            u64::try_from(deadline.as_millis()).unwrap_or(u64::MAX),
+        );
+        let joined = Participant::join(options.domain, &options.interfaces)?;
+        let factors = Factors::open(&joined)?;
+        let poll = Poll::new().map_err(|error| format!("poll: {error}"))?;
+        let input = Input::open(&joined, &poll)?;
+        let servers = Service::ALL
+            .into_iter()
+            .enumerate()
+            .map(|(index, service)| Server::open(&joined, &poll, Endpoint::Ad(service), index))
+            .collect::<Result<Vec<_>, _>>()?;
+        // The clients' identifiers: unique in the domain as the participant's GUID prefix is.
+        let prefix = joined.participant.guid().to_bytes();
+        let base = prefix
+            .get(4..12)
+            .and_then(|bytes| bytes.try_into().ok())
+            .map_or(1, u64::from_le_bytes)
+            & !0xFFFF;
+        let names: Vec<String> = relay
+            .engine()
+            .host()
+            .rtc()
+            .bindings()
+            .iter()
+            .map(|binding| binding.name.clone())
+            .collect();
+        let modules = names
+            .iter()
+            .enumerate()
+            .map(|(index, name)| {
+                Module::open(
+                    &joined,
+                    &poll,
+                    name,
+                    MODULE_TOKENS + 4 * index,
+                    base + 2 * u64::try_from(index).unwrap_or(0) + 2,
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut readers: Vec<_> = servers
+            .iter()
+            .map(|s| s.requests.guid())
+            .chain([input.velocity_reader.guid(), input.steering_reader.guid()])
+            .collect();
+        let mut writers: Vec<_> = factors
+            .guids()
+            .into_iter()
+            .chain(servers.iter().map(|s| s.replies.guid()))
+            .collect();
+        for module in &modules {
+            let (module_readers, module_writers) = module.guids();
+            readers.extend(module_readers);
+            writers.extend(module_writers);
+        }
+        let graph = joined.announce(
+            options.distro,
+            &options.namespace,
+            &options.name,
+            &readers,
+            &writers,
+        )?;
+        Ok(Self {
+            relay,
+            clock: Clock::start(),
+            options,
+            poll,
+            servers,
+            modules,
+            factors,
+            input,
+            scenes: None,
+            replies: Replies::default(),
+            awaiting: BTreeMap::new(),
+            next_operator: 0,
+            _graph: graph,
+            _participant: joined.participant,
+        })
+    }
+
+    /// The names of the interfaces it relays.
+    pub fn interfaces(&self) -> impl Iterator<Item = &str> {
+        self.modules.iter().map(|module| module.endpoints.name())
+    }
+
+    /// Serves until `stop` is set (seen within 100 ms).
+    ///
+    /// # Errors
+    /// The poll failed.
+    pub fn run(&mut self, stop: &AtomicBool) -> Result<(), String> {
+        let mut events = Events::with_capacity(256);
+        while !stop.load(Ordering::Relaxed) {
+            let now = self.clock.now();
+            let until_publication =
+                Duration::from_millis(self.relay.engine().until_publication_ms(now));
+            let busy = !(self.replies.is_empty() && self.relay.is_idle());
+            wait(&mut self.poll, &mut events, busy, until_publication)?;
+            self.step();
+        }
+        Ok(())
+    }
+
+    /// One turn: time, what the modules said, the operators' calls, the calls to modules, the
+    /// operators' answers, the replies due and the publications.
+    fn step(&mut self) {
+        let now = self.clock.now();
+        self.relay.handle_timeout(now);
+        for server in &mut self.servers {
+            server.track_matches();
+        }
+        for index in 0..self.modules.len() {
+            let Some(module) = self.modules.get_mut(index) else {
+                continue;
+            };
+            let name = module.endpoints.name().to_owned();
+            for heard in module.heard() {
+                self.hear(&name, heard, now);
+            }
+        }
+        for index in 0..self.servers.len() {
+            self.serve(index);
+        }
+        while let Some(forward) = self.relay.poll_forward(now) {
+            match self
+                .modules
+                .iter_mut()
+                .find(|module| module.endpoints.name() == forward.interface)
+            {
+                Some(module) => {
+                    module.send(forward.call, &forward.request);
+                }
+                None => tracing::error!(interface = %forward.interface, "a call to no module"),
+            }
+        }
+        while let Some((call, response)) = self.relay.poll_answer() {
+            if let Some(awaiting) = self.awaiting.remove(&call) {
+                if let Some(server) = self.servers.get(awaiting.server) {
+                    self.replies.push(
+                        server,
+                        awaiting.server,
+                        awaiting.client,
+                        awaiting.header,
+                        &Reply::Ad(response),
+                    );
+                }
+            }
+        }
+        self.replies.flush(&self.servers);
+        self.publish(now);
+    }
+
+    /// Publishes the factors when the engine's are due or the stack's came
+    /// (`[COOP-RELAY-FACTORS.1]`).
+    fn publish(&mut self, now: Now) {
+        let came = self.input.take();
+        let due = self.relay.poll_publication(now);
+        let fresh = due.is_some();
+        if let Some(publication) = due {
+            self.scenes = Some(publication);
+        }
+        let Some(scenes) = &self.scenes else {
+            return;
+        };
+        if !(fresh || came) {
+            return;
+        }
+        let velocity =
+            factors::velocity(Input::fresh(self.input.velocity.as_ref()), &scenes.velocity);
+        let steering =
+            factors::steering(Input::fresh(self.input.steering.as_ref()), &scenes.steering);
+        self.factors.write(&velocity, &steering);
+    }
+
+    /// Gives the relay what module `name` said; what it refuses is logged.
+    fn hear(&mut self, name: &str, heard: Heard, now: Now) {
+        match heard {
+            Heard::Statuses(array) => match self.relay.take_statuses(name, &array, now) {
+                Ok(taken) => {
+                    for (id, error) in &taken.refused {
+                        tracing::warn!(interface = name, scene = %id, %error, "status refused");
+                    }
+                }
+                Err(error) => tracing::warn!(interface = name, %error, "status array refused"),
+            },
+            Heard::AutoMode(status) => {
+                if let Err(error) = self.relay.take_auto_mode(name, &status, now) {
+                    tracing::warn!(interface = name, %error, "auto-mode status refused");
+                }
+            }
+            Heard::Answer(call, answer) => {
+                if !self.relay.take_answer(call, &answer, now) {
+                    tracing::warn!(interface = name, "an answer after its deadline, not taken");
+                } else if !answered(&answer) {
+                    tracing::info!(interface = name, "the module refused a call");
+                }
+            }
+        }
+    }
+
+    /// Takes every request waiting at server `index`: answered at once, or once its modules
+    /// answer.
+    fn serve(&mut self, index: usize) {
+        loop {
+            let Some(server) = self.servers.get_mut(index) else {
+                return;
+            };
+            let endpoint = server.endpoint;
+            let Some((client, header, incoming)) = server.next_request() else {
+                return;
+            };
+            let reply = match incoming {
+                Request::Ad(request) => {
+                    let call = OperatorCall(self.next_operator);
+                    self.next_operator += 1;
+                    match self.relay.handle_operator(call, &request, self.clock.now()) {
+                        Some(response) => Reply::Ad(response),
+                        None => {
+                            self.awaiting.insert(
+                                call,
+                                Awaiting {
+                                    server: index,
+                                    client,
+                                    header,
+                                },
+                            );
+                            continue;
+                        }
+                    }
+                }
+                Request::Malformed(endpoint, error) => Reply::refusal(endpoint, error),
+                Request::Sync(_) => {
+                    Reply::refusal(endpoint, "the stack mode takes no sync requests".to_owned())
+                }
+            };
+            if let Some(server) = self.servers.get(index) {
+                self.replies.push(server, index, client, header, &reply);
+            }
+        }
+    }
+}
+
+/// Whether a module's answer says it did what it was asked.
+fn answered(answer: &ModuleAnswer) -> bool {
+    match answer {
+        ModuleAnswer::Commands(response) => response.responses.iter().all(|r| r.success),
+        ModuleAnswer::AutoMode(success) => *success,
+    }
+}
+
+/// How long a module has to answer unless the command line says otherwise.
+pub const DEADLINE: Duration = Duration::from_millis(relay::DEADLINE_MS);
