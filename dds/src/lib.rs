@@ -6,7 +6,9 @@
 //! so that ROS 2 nodes on Cyclone DDS reach it as any other node. It is RTPS in pure Rust
 //! (`rustdds`): no ROS 2 installation is needed. Every answer comes from `cooperation_adapters`
 //! (`dds`, `wire`, `sync`, `rtc`); this crate only moves bytes. `docs/ros2.md` describes it,
-//! and `tools/ros2-interop` tests it against Cyclone DDS.
+//! and `tools/ros2-interop` tests it against Cyclone DDS. Its stack mode ([`Stack`]) serves the
+//! AD API over the planning modules' own RTC endpoints instead, through
+//! `cooperation_adapters::relay` (`docs/autoware.md`, tested by `tools/stack-test`).
 
 #![deny(
     clippy::unwrap_used,
