@@ -136,6 +136,9 @@ pub struct Stack {
     replies: Replies,
     awaiting: BTreeMap<OperatorCall, Awaiting>,
     next_operator: u64,
+    /// The interfaces whose status arrays are refused: the kind of reason last logged, and how
+    /// many were refused for it since.
+    refusing: BTreeMap<String, (std::mem::Discriminant<relay::ArrayError>, u64)>,
     /// Kept for the life of the node: the graph's sample is transient-local.
     _graph: rustdds::no_key::DataWriter<Raw, RawAdapter>,
     /// Kept last: the entities above belong to it.
@@ -237,6 +240,7 @@ impl Stack {
             replies: Replies::default(),
             awaiting: BTreeMap::new(),
             next_operator: 0,
+            refusing: BTreeMap::new(),
             _graph: graph,
             _participant: joined.participant,
         })
@@ -340,11 +344,28 @@ impl Stack {
         match heard {
             Heard::Statuses(array) => match self.relay.take_statuses(name, &array, now) {
                 Ok(taken) => {
+                    if let Some((_, repeats)) = self.refusing.remove(name) {
+                        tracing::info!(
+                            interface = name,
+                            "status arrays taken again, after {} more refused for that reason",
+                            repeats
+                        );
+                    }
                     for (id, error) in &taken.refused {
                         tracing::warn!(interface = name, scene = %id, %error, "status refused");
                     }
                 }
-                Err(error) => tracing::warn!(interface = name, %error, "status array refused"),
+                Err(error) => {
+                    // Logged when the reason's kind changes: a module keeps publishing.
+                    let kind = std::mem::discriminant(&error);
+                    match self.refusing.get_mut(name) {
+                        Some((logged, repeats)) if *logged == kind => *repeats += 1,
+                        _ => {
+                            tracing::warn!(interface = name, %error, "status array refused");
+                            self.refusing.insert(name.to_owned(), (kind, 0));
+                        }
+                    }
+                }
             },
             Heard::AutoMode(status) => {
                 if let Err(error) = self.relay.take_auto_mode(name, &status, now) {

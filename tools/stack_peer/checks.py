@@ -347,6 +347,43 @@ class Stack:
             problems.append(f"set_policies back: {reply and reply.status}")
         return problems + settled_agreement(w)
 
+    def undefined_state(self):
+        """Upstream takes any state from RUNNING, 7 included: the module's arrays are then
+        refused whole (logged by the node, checked by tools/stack-test), its scenes stay as last
+        shown, and no other module's scenes are harmed."""
+        w, lane, junction = self.world, self.lane, self.junction
+        scene, other = new_uuid(), new_uuid()
+        lane.scenes[scene] = Scene(scene, True, RUNNING, 70.0, 160.0)
+        junction.scenes[other] = Scene(other, True, WAITING, 45.0, 45.0)
+        if not w.wait(lambda: w.shown("lane_change_left", scene) is not None
+                      and w.shown("intersection", other) is not None, SHOWN):
+            return ["the scenes are not shown"]
+        # Registered waiting, then running, then 7.
+        for state in (RUNNING, 7):
+            lane.scenes[scene].state = state
+            if not w.wait(lambda: lane.rtc.find(scene).state.type == state, SHOWN):
+                return [f"the module did not take state {state}"]
+        say(f"lane_change_left holds scene {uuid_text(scene)[:8]} in state "
+            f"{lane.rtc.find(scene).state.type} and publishes it")
+        problems = []
+        reply = w.command(other, DEACTIVATE)
+        if reply is None or not reply.status.success:
+            problems.append(f"the intersection's command: {reply and reply.status}")
+        elif not w.wait(lambda: (s := w.shown("intersection", other)) is not None
+                        and s.cooperator.decision == DEACTIVATE, SHOWN):
+            problems.append("the intersection's scene does not show the operator's deactivate")
+        w.settle(0.6)  # a few more broken arrays
+        if w.shown("lane_change_left", scene) is None:
+            problems.append("the lane change's scene left before its time to live")
+        # The module drops the broken scene; its arrays are taken again.
+        del lane.scenes[scene]
+        lane.rtc.remove(scene)
+        if not w.wait(lambda: w.shown("lane_change_left", scene) is None, SHOWN):
+            problems.append("the lane change's scene is still shown after the module removed it")
+        del junction.scenes[other]
+        junction.rtc.remove(other)
+        return problems
+
     def virtual_traffic_light(self):
         """virtual_traffic_light's statuses say TRAFFIC_LIGHT: a command still reaches its own
         service (upstream's controller routes by module type and cannot)."""
@@ -375,4 +412,5 @@ class Stack:
         ("a policy toggle keeps the standing operator decisions", "policy_toggle"),
         ("a new scene under required: none, not deactivate", "none_is_not_deactivate"),
         ("virtual_traffic_light reached by its own service", "virtual_traffic_light"),
+        ("an undefined state refuses one module's arrays, no other's", "undefined_state"),
     ]
