@@ -3,7 +3,7 @@
 //!
 //! Each service request is read outside the lock ([`Endpoint::read`]), answered by the engine
 //! in one short critical section ([`Engine::handle`]), and its reply written once the client's
-//! reply reader is matched, or after [`REPLY_WAIT`] at most ([`Replies`]). The factors are
+//! reply reader is matched, or after [`REPLY_WAIT`] at most (`Replies`). The factors are
 //! published when the engine says a publication is due: every `publish_every`, and at once
 //! after a change they show.
 
