@@ -37,10 +37,12 @@ std::optional<rust::String> utf8(const std::string & text, std::string & why)
 Result refused(const std::string & why) { return Result{false, rust::String::lossy(why)}; }
 }  // namespace
 
-std::shared_ptr<NodeCore> core_of(const void * node, std::optional<std::size_t> quota)
+std::shared_ptr<NodeCore> core_of(const NodeIdentity & node, std::optional<std::size_t> quota)
 {
   static std::mutex mutex;
-  static std::map<const void *, std::weak_ptr<NodeCore>> cores;
+  // Keyed by the node's identity object: a key held here keeps that object's control block, so
+  // no later node's identity can compare equal to a gone node's.
+  static std::map<NodeIdentity, std::weak_ptr<NodeCore>, std::owner_less<NodeIdentity>> cores;
   const std::lock_guard<std::mutex> lock(mutex);
   if (auto core = cores[node].lock()) {
     return core;
@@ -49,14 +51,14 @@ std::shared_ptr<NodeCore> core_of(const void * node, std::optional<std::size_t> 
   // the node could not run, and its constructor is where upstream's throws too.
   auto core = std::make_shared<NodeCore>(b::new_core(quota.value_or(b::default_scene_quota())));
   cores[node] = core;
-  // Forget the nodes whose cores are gone.
+  // Forget the nodes whose cores are gone, and the nodes that are gone.
   for (auto it = cores.begin(); it != cores.end();) {
-    it = it->second.expired() ? cores.erase(it) : std::next(it);
+    it = it->second.expired() || it->first.expired() ? cores.erase(it) : std::next(it);
   }
   return core;
 }
 
-InterfaceCore::InterfaceCore(const void * node, const std::string & name, bool enable_rtc)
+InterfaceCore::InterfaceCore(const NodeIdentity & node, const std::string & name, bool enable_rtc)
 : core_(core_of(node)), name_(name)
 {
   std::string why;

@@ -16,7 +16,19 @@ Logger::Logger(std::string node)
 
 void Logger::info(const std::string & text) const { (*sink_)(Level::Info, node_, text); }
 void Logger::warn(const std::string & text) const { (*sink_)(Level::Warn, node_, text); }
-void Logger::set_sink(Sink sink) { sink_ = std::make_shared<Sink>(std::move(sink)); }
+void Logger::set_sink(Sink sink) { *sink_ = std::move(sink); }
+
+builtin_interfaces::msg::Time Clock::now() const
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return now_;
+}
+
+void Clock::set_now(builtin_interfaces::msg::Time now)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  now_ = now;
+}
 
 Timer::Timer(std::chrono::nanoseconds period, std::function<void()> callback)
 : period_(period), callback_(std::move(callback))
@@ -25,21 +37,19 @@ Timer::Timer(std::chrono::nanoseconds period, std::function<void()> callback)
 std::chrono::nanoseconds Timer::period() const { return period_; }
 void Timer::fire() const { callback_(); }
 
-Node::Node(std::string name) : name_(std::move(name)), logger_(name_) {}
+Node::Node(std::string name)
+: name_(std::move(name)),
+  logger_(name_),
+  clock_(std::make_shared<Clock>()),
+  base_(std::make_shared<NodeBase>(NodeBase{name_}))
+{
+}
 
 const std::string & Node::get_name() const { return name_; }
-
-builtin_interfaces::msg::Time Node::now() const
-{
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return now_;
-}
-
-void Node::set_now(builtin_interfaces::msg::Time now)
-{
-  const std::lock_guard<std::mutex> lock(mutex_);
-  now_ = now;
-}
+builtin_interfaces::msg::Time Node::now() const { return clock_->now(); }
+void Node::set_now(builtin_interfaces::msg::Time now) { clock_->set_now(now); }
+Clock::SharedPtr Node::get_clock() const { return clock_; }
+std::shared_ptr<NodeBase> Node::get_node_base_interface() const { return base_; }
 
 Logger & Node::get_logger() { return logger_; }
 

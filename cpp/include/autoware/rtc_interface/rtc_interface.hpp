@@ -39,6 +39,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -143,31 +144,35 @@ public:
   /// Interfaces of the same core module share its policy (`[COOP-DEV-AUTO-MODE-KEY.1]`), so
   /// the last one made decides it. A name with no binding is logged and makes an interface
   /// whose queries answer false and whose changes are refused with a warning
-  /// (`[COOP-DEV-INTERFACE-NAME.1]`); nothing throws.
+  /// (`[COOP-DEV-INTERFACE-NAME.1]`); nothing throws. The interface keeps the node's clock and
+  /// logger, and the node's core is found by the node's identity, not its address: the node may
+  /// be destroyed first.
   BasicRTCInterface(NodeT * node, const std::string & name, const bool enable_rtc = true)
-  : node_(node), core_(static_cast<const void *>(node), name, enable_rtc)
+  : clock_(node->get_clock()),
+    logger_(node->get_logger()),
+    core_(cooperation::rtc::identity_of(node), name, enable_rtc)
   {
     module_.type = core_.module_type();
     if (!core_.bound().ok) {
-      detail::warn(node_->get_logger(), "RTC interface " + name + ": " + detail::why(core_.bound()));
+      detail::warn(logger_, "RTC interface " + name + ": " + detail::why(core_.bound()));
     }
-    pub_statuses_ = node_->template create_publisher<CooperateStatusArray>(
+    pub_statuses_ = node->template create_publisher<CooperateStatusArray>(
       "/planning/cooperate_status/" + name, 1);
     pub_auto_mode_status_ =
-      node_->template create_publisher<AutoModeStatus>("/planning/auto_mode_status/" + name, 1);
-    srv_commands_ = node_->template create_service<CooperateCommands>(
+      node->template create_publisher<AutoModeStatus>("/planning/auto_mode_status/" + name, 1);
+    srv_commands_ = node->template create_service<CooperateCommands>(
       "/planning/cooperate_commands/" + name,
       [this](
         const typename CooperateCommands::Request::SharedPtr request,
         typename CooperateCommands::Response::SharedPtr response) {
         onCooperateCommandService(request, response);
       });
-    srv_auto_mode_ = node_->template create_service<AutoMode>(
+    srv_auto_mode_ = node->template create_service<AutoMode>(
       "/planning/enable_auto_mode/" + name,
       [this](
         const typename AutoMode::Request::SharedPtr request,
         typename AutoMode::Response::SharedPtr response) { onAutoModeService(request, response); });
-    timer_ = node_->create_wall_timer(std::chrono::milliseconds(100), [this] { onTimer(); });
+    timer_ = node->create_wall_timer(std::chrono::milliseconds(100), [this] { onTimer(); });
   }
 
   BasicRTCInterface(const BasicRTCInterface &) = delete;
@@ -232,8 +237,8 @@ public:
   /// passes once (`[COOP-DEV-EXPIRY.1]`).
   void removeExpiredCooperateStatus()
   {
-    for (const auto & expired : core_.advance(detail::stamp_of(node_->now()))) {
-      detail::info(node_->get_logger(), "uuid : " + detail::to_string(expired) + " expired");
+    for (const auto & expired : core_.advance(detail::stamp_of(clock_->now()))) {
+      detail::info(logger_, "uuid : " + detail::to_string(expired) + " expired");
     }
   }
 
@@ -242,7 +247,7 @@ public:
   {
     const auto result = core_.clear();
     if (!result.ok) {
-      detail::warn(node_->get_logger(), core_.name() + ": clear refused: " + detail::why(result));
+      detail::warn(logger_, core_.name() + ": clear refused: " + detail::why(result));
     }
   }
 
@@ -283,9 +288,9 @@ public:
   /// Logs each live scene: uuid, command, safe, state.
   void print() const
   {
-    for (const auto & s : core_.statuses(detail::stamp_of(node_->now()))) {
+    for (const auto & s : core_.statuses(detail::stamp_of(clock_->now()))) {
       detail::info(
-        node_->get_logger(), "uuid : " + detail::to_string(s.uuid) +
+        logger_, "uuid : " + detail::to_string(s.uuid) +
                                " command : " + detail::command_name(s.command) +
                                " safe : " + (s.safe ? "true" : "false") +
                                " state : " + detail::state_name(s.state));
@@ -306,7 +311,7 @@ private:
       override_rtc_auto_mode && !core_.is_registered(bytes) &&
       *override_rtc_auto_mode != core_.auto_mode_status()) {
       detail::warn(
-        node_->get_logger(), "uuid : " + detail::to_string(bytes) +
+        logger_, "uuid : " + detail::to_string(bytes) +
                                " override_rtc_auto_mode is not honoured: a scene follows its "
                                "module's policy [COOP-DEV-AUTO-MODE-KEY.1]");
     }
@@ -319,7 +324,7 @@ private:
   {
     if (!result.ok) {
       detail::warn(
-        node_->get_logger(), "uuid : " + detail::to_string(detail::id_of(uuid)) + " " + what +
+        logger_, "uuid : " + detail::to_string(detail::id_of(uuid)) + " " + what +
                                " refused: " + detail::why(result));
     }
   }
@@ -345,7 +350,7 @@ private:
     }
     if (!answered.outcome.ok) {
       detail::warn(
-        node_->get_logger(), core_.name() + ": commands refused: " + detail::why(answered.outcome));
+        logger_, core_.name() + ": commands refused: " + detail::why(answered.outcome));
     }
   }
 
@@ -356,7 +361,7 @@ private:
     const auto result = core_.auto_mode(request->enable);
     response->success = result.ok;
     if (!result.ok) {
-      detail::warn(node_->get_logger(), core_.name() + ": auto mode refused: " + detail::why(result));
+      detail::warn(logger_, core_.name() + ": auto mode refused: " + detail::why(result));
     }
   }
 
@@ -374,7 +379,9 @@ private:
   using AutoModeStatusPublisherPtr =
     decltype(std::declval<NodeT *>()->template create_publisher<AutoModeStatus>(std::string{}, 1));
 
-  NodeT * node_;
+  // What the interface needs of its node after construction, kept: it may outlive the node.
+  decltype(std::declval<NodeT &>().get_clock()) clock_;
+  std::decay_t<decltype(std::declval<NodeT &>().get_logger())> logger_;
   cooperation::rtc::InterfaceCore core_;
   Module module_;
   CooperateStatusPublisherPtr pub_statuses_;

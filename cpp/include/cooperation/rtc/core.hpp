@@ -35,13 +35,32 @@ using Answered = ::cooperation::bridge::Answered;
 
 class NodeCore;
 
-/// The core of the node at `node`, shared by every interface made with the same node (made at
-/// the first request, and dropped with the last interface that holds it), built as every node
-/// of this project builds its core: the built-in settings' policies and limits. `quota`, the
-/// most live scenes one interface may hold (0: none; by default the nodes' own default),
-/// applies when the core is made.
+/// A node's identity: the object its node base interface is (`get_node_base_interface()`, as
+/// `rclcpp::Node` has), held weakly. Two identities are the same node when they share that
+/// object; a node made after another is gone is another node, wherever it is allocated.
+using NodeIdentity = std::weak_ptr<const void>;
+
+/// The identity of `node`.
+template <class NodeT>
+NodeIdentity identity_of(NodeT * node)
+{
+  return NodeIdentity(std::shared_ptr<const void>(node->get_node_base_interface()));
+}
+
+/// The core of the node `node` is, shared by every interface made with the same node, in
+/// whichever plugin of the process (made at the first request, and dropped with the last
+/// interface that holds it), built as every node of this project builds its core: the built-in
+/// settings' policies and limits. `quota`, the most live scenes one interface may hold (0: none;
+/// by default the nodes' own default), applies when the core is made.
 std::shared_ptr<NodeCore> core_of(
-  const void * node, std::optional<std::size_t> quota = std::nullopt);
+  const NodeIdentity & node, std::optional<std::size_t> quota = std::nullopt);
+
+/// `core_of(identity_of(node), quota)`.
+template <class NodeT>
+std::shared_ptr<NodeCore> core_of(NodeT * node, std::optional<std::size_t> quota = std::nullopt)
+{
+  return core_of(identity_of(node), quota);
+}
 
 /// One RTC interface of a node's core: upstream's calls, each one call on the core.
 class InterfaceCore
@@ -50,7 +69,7 @@ public:
   /// The interface `name` of the core of `node`, its modules' policy set as upstream's
   /// `enable_rtc` says (required when true). A name with no binding makes an interface that
   /// answers every query `false` and refuses every change; `bound()` says why.
-  InterfaceCore(const void * node, const std::string & name, bool enable_rtc);
+  InterfaceCore(const NodeIdentity & node, const std::string & name, bool enable_rtc);
   ~InterfaceCore();
   InterfaceCore(const InterfaceCore &) = delete;
   InterfaceCore & operator=(const InterfaceCore &) = delete;

@@ -30,12 +30,33 @@ public:
   explicit Logger(std::string node);
   void info(const std::string & text) const;
   void warn(const std::string & text) const;
-  /// Sends the lines to `sink` from now on.
+  /// Sends the lines to `sink` from now on, this logger's and its copies' (an interface keeps a
+  /// copy, so it may outlive its node).
   void set_sink(Sink sink);
 
 private:
   std::string node_;
   std::shared_ptr<Sink> sink_;
+};
+
+/// A node's clock: the time its owner last set (`rclcpp::Clock`'s `now()`). An interface keeps
+/// it, so it may outlive its node.
+class Clock
+{
+public:
+  using SharedPtr = std::shared_ptr<Clock>;
+  builtin_interfaces::msg::Time now() const;
+  void set_now(builtin_interfaces::msg::Time now);
+
+private:
+  mutable std::mutex mutex_;
+  builtin_interfaces::msg::Time now_;
+};
+
+/// What identifies a node (`rclcpp::node_interfaces::NodeBaseInterface`'s role): its name.
+struct NodeBase
+{
+  std::string name;
 };
 
 /// The latest message published on a topic; the depth is 1, as upstream's.
@@ -112,6 +133,10 @@ public:
   builtin_interfaces::msg::Time now() const;
   /// Sets the node's clock (the planner's time source: a simulator, a bag, the system clock).
   void set_now(builtin_interfaces::msg::Time now);
+  /// The clock itself, to keep.
+  Clock::SharedPtr get_clock() const;
+  /// What identifies the node (`cooperation::rtc::identity_of`).
+  std::shared_ptr<NodeBase> get_node_base_interface() const;
   Logger & get_logger();
 
   template <class Message>
@@ -174,8 +199,9 @@ private:
 
   std::string name_;
   Logger logger_;
+  Clock::SharedPtr clock_;
+  std::shared_ptr<NodeBase> base_;
   mutable std::mutex mutex_;
-  builtin_interfaces::msg::Time now_;
   std::map<std::string, Endpoint> endpoints_;
   std::vector<std::weak_ptr<Timer>> timers_;
 };
