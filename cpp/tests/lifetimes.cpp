@@ -43,7 +43,7 @@ void a_node_where_a_gone_one_was_is_another()
   first->~Node();
   auto * second = new (storage) Node("second");
   CHECK(static_cast<void *>(second) == static_cast<void *>(storage), "the same address");
-  RTCInterface late(second, "crosswalk", true);
+  autoware::rtc_interface::BasicRTCInterface<> late(second, "crosswalk", true);  // the default node
   late.updateCooperateStatus(id, true, State::WAITING_FOR_EXECUTION, 20.0, 20.0, check::at(0));
   CHECK(late.isRegistered(id), "the new node's core does not hold the gone node's scene");
   CHECK(early->isRegistered(id), "the gone node's interface keeps its own core");

@@ -130,9 +130,17 @@ inline void info(const cooperation::rtc::Logger & logger, const std::string & te
 #endif
 }  // namespace detail
 
+#ifdef COOPERATION_RTC_WITH_RCLCPP
+/// The node type `BasicRTCInterface<>` is built on, as upstream's default.
+using DefaultNode = rclcpp::Node;
+#else
+/// The node type `BasicRTCInterface<>` is built on.
+using DefaultNode = cooperation::rtc::Node;
+#endif
+
 /// Publishes the decision status of a planning module's scenes and receives the operator's
 /// commands for them; every answer comes from the node's verified core.
-template <class NodeT>
+template <class NodeT = DefaultNode>
 class BasicRTCInterface
 {
 public:
@@ -391,11 +399,7 @@ private:
   std::shared_ptr<void> timer_;
 };
 
-#ifdef COOPERATION_RTC_WITH_RCLCPP
-using RTCInterface = BasicRTCInterface<rclcpp::Node>;
-#else
-using RTCInterface = BasicRTCInterface<cooperation::rtc::Node>;
-#endif
+using RTCInterface = BasicRTCInterface<>;
 
 }  // namespace autoware::rtc_interface
 
