@@ -18,7 +18,7 @@ use rustdds::{
     QosPolicyBuilder, RTPSEntity, StatusEvented, Subscriber, Topic, TopicKind, GUID,
 };
 
-use crate::graph::{self, Distro, Gid, NodeEntitiesInfo, ParticipantEntitiesInfo};
+use crate::graph::{self, Gid, NodeEntitiesInfo, ParticipantEntitiesInfo};
 use crate::raw::{Raw, RawAdapter};
 
 /// How long a reply waits for its client's reply reader to be matched, as `rmw_cyclonedds_cpp`
@@ -113,16 +113,21 @@ impl Participant {
     }
 
     /// Writes the node's entry of `ros_discovery_info` (what `ros2 node list` and `ros2 node
-    /// info` read); the writer returned must live as long as the node (the sample is
+    /// info` read): its servers' and factor writers' entities, and `readers` and `writers`
+    /// besides. The writer returned must live as long as the node (the sample is
     /// transient-local).
     pub(crate) fn announce(
         &self,
-        distro: Distro,
-        namespace: &str,
-        name: &str,
-        readers: &[GUID],
-        writers: &[GUID],
+        options: &crate::Options,
+        servers: &[Server],
+        factors: &Factors,
+        mut readers: Vec<GUID>,
+        mut writers: Vec<GUID>,
     ) -> Result<DataWriter<Raw, RawAdapter>, String> {
+        readers.extend(servers.iter().map(|s| s.requests.guid()));
+        writers.extend(factors.guids());
+        writers.extend(servers.iter().map(|s| s.replies.guid()));
+        let (distro, namespace, name) = (options.distro, &options.namespace, &options.name);
         let graph = self.writer(
             graph::TOPIC,
             graph::TYPE,

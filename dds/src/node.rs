@@ -18,7 +18,7 @@ use cooperation_adapters::dds::Endpoint;
 use cooperation_adapters::engine::{self, Engine};
 use cooperation_adapters::Shared;
 use rustdds::mio1::{Events, Poll};
-use rustdds::{DomainParticipant, RTPSEntity};
+use rustdds::DomainParticipant;
 
 pub use crate::entities::REPLY_WAIT;
 use crate::entities::{wait, Factors, Participant, Replies, Server};
@@ -125,19 +125,7 @@ impl Node {
             .enumerate()
             .map(|(index, endpoint)| Server::open(&joined, &poll, endpoint, index))
             .collect::<Result<Vec<_>, _>>()?;
-        let readers: Vec<_> = servers.iter().map(|s| s.requests.guid()).collect();
-        let writers: Vec<_> = factors
-            .guids()
-            .into_iter()
-            .chain(servers.iter().map(|s| s.replies.guid()))
-            .collect();
-        let graph = joined.announce(
-            options.distro,
-            &options.namespace,
-            &options.name,
-            &readers,
-            &writers,
-        )?;
+        let graph = joined.announce(&options, &servers, &factors, Vec::new(), Vec::new())?;
         Ok(Self {
             shared,
             clock,

@@ -205,28 +205,14 @@ impl Stack {
                 )
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let mut readers: Vec<_> = servers
-            .iter()
-            .map(|s| s.requests.guid())
-            .chain([input.velocity_reader.guid(), input.steering_reader.guid()])
-            .collect();
-        let mut writers: Vec<_> = factors
-            .guids()
-            .into_iter()
-            .chain(servers.iter().map(|s| s.replies.guid()))
-            .collect();
+        let mut readers = vec![input.velocity_reader.guid(), input.steering_reader.guid()];
+        let mut writers = Vec::new();
         for module in &modules {
             let (module_readers, module_writers) = module.guids();
             readers.extend(module_readers);
             writers.extend(module_writers);
         }
-        let graph = joined.announce(
-            options.distro,
-            &options.namespace,
-            &options.name,
-            &readers,
-            &writers,
-        )?;
+        let graph = joined.announce(&options, &servers, &factors, readers, writers)?;
         Ok(Self {
             relay,
             clock: Clock::start(),
