@@ -663,7 +663,6 @@ impl Relay {
                 wire::Response::SetCommands(wire::SetCooperationCommandsResponse { status })
             }
             Pending::Policies(settings, parts) => {
-                let state = self.engine.state();
                 let rtc = self.engine.host().rtc();
                 // A setting applies when every interface of its module took the switch.
                 let taken: Vec<cooperation::PolicySetting> = settings
@@ -679,7 +678,6 @@ impl Relay {
                     })
                     .copied()
                     .collect();
-                let _ = state;
                 let input = Input::SetPolicies {
                     policies: taken.clone(),
                 };
