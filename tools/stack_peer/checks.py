@@ -45,8 +45,8 @@ def agreement(world):
 
 
 def settled_agreement(world, timeout=SHOWN):
-    problems = []
-    world.wait(lambda: not (problems := agreement(world)) or problems.clear(), timeout)
+    """`agreement`, once it holds or `timeout` s have passed."""
+    world.wait(lambda: not agreement(world), timeout)
     return agreement(world)
 
 
