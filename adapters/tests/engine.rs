@@ -82,6 +82,60 @@ fn coop_engine_time_1() {
     assert!(engine.state().scene(id(2)).is_none());
 }
 
+/// `[COOP-ENGINE-STEP.1]`: a step of the clock longer than the step limit counts the limit, so
+/// a jump neither retires the scenes a planner reports one module after another in the cycle
+/// after it, nor keeps a scene no longer reported past a limit more of its time to live; the
+/// host is asked to call again before a step outgrows the limit.
+#[test]
+fn coop_engine_step_1() {
+    const LIMIT_MS: u64 = 20;
+    let engine_limited = |max_step_ms| {
+        let mut config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+        config.limits.ttl_ms = TTL_MS;
+        let options = Options {
+            max_step_ms,
+            ..Options::default()
+        };
+        let mut engine = Engine::new(config, options).expect("a configuration");
+        engine.handle_timeout(at(0));
+        engine
+    };
+    for (max_step_ms, survives) in [(LIMIT_MS, true), (u64::MAX, false)] {
+        let mut engine = engine_limited(max_step_ms);
+        assert!(engine.handle(report(1, true), at(0)).reply.success());
+        assert!(engine.handle(report(2, true), at(0)).reply.success());
+        // The clock jumps 10 s; the modules report their scenes one after the other. Counted
+        // whole, the jump retires both before either is reported again: for good.
+        assert_eq!(
+            engine.handle(report(1, true), at(10_000)).reply.success(),
+            survives
+        );
+        assert_eq!(engine.state().scene(id(2)).is_some(), survives);
+        assert_eq!(
+            engine.handle(report(2, true), at(10_000)).reply.success(),
+            survives,
+            "step limit {max_step_ms}"
+        );
+    }
+
+    let mut engine = engine_limited(LIMIT_MS);
+    assert!(engine.handle(report(1, true), at(0)).reply.success());
+    assert!(engine.poll_publication(at(0)).is_some());
+    assert_eq!(engine.until_publication_ms(at(5)), 95);
+    assert_eq!(engine.until_timeout_ms(at(5)), LIMIT_MS - 5);
+    // A jump, then a clock that went back: 20 ms counted, then none.
+    engine.handle_timeout(at(10_000));
+    engine.handle_timeout(at(5_000));
+    assert!(engine.state().scene(id(1)).is_some());
+    // Steps within the limit count whole: 20 + 80 = 100 ms, the time to live, then beyond it.
+    for ms in (10_020..=10_080).step_by(20) {
+        engine.handle_timeout(at(ms));
+    }
+    assert!(engine.state().scene(id(1)).is_some());
+    engine.handle_timeout(at(10_081));
+    assert!(engine.state().scene(id(1)).is_none());
+}
+
 /// `[COOP-ENGINE-PUBLISH.1]`: a change the streams show makes a publication due at once; a
 /// report that only renews its scene's time to live does not; the interval makes one due
 /// regardless.

@@ -381,11 +381,31 @@ mod tests {
         assert!(advance(&core, at(1_700_000_000)).is_empty());
         let id = scene(1);
         assert!(update(&core, "crosswalk", &id, true, 0, 1.0, 1.0, false, false, "").ok);
-        assert!(advance(&core, at(1_700_000_009)).is_empty());
+        for second in 1..=10 {
+            assert!(advance(&core, at(1_700_000_000 + second)).is_empty());
+        }
         assert!(advance(&core, at(1_600_000_000)).is_empty(), "went back");
         assert!(is_registered(&core, "crosswalk", &id));
         assert_eq!(advance(&core, at(1_700_000_011)), vec![id]);
         assert!(!is_registered(&core, "crosswalk", &id));
+    }
+
+    #[test]
+    fn a_jump_of_the_clock_counts_the_step_limit() {
+        let core = Core::new(0).unwrap();
+        assert!(bind(&core, "crosswalk", true).ok);
+        assert!(advance(&core, at(100)).is_empty());
+        let id = scene(3);
+        assert!(update(&core, "crosswalk", &id, true, 0, 1.0, 1.0, false, false, "").ok);
+        // A seek 20 s ahead, then 8 s of cycles: 9 s counted, within the time to live.
+        assert!(advance(&core, at(120)).is_empty());
+        for second in 121..=128 {
+            assert!(advance(&core, at(second)).is_empty());
+        }
+        assert!(is_registered(&core, "crosswalk", &id));
+        // Two more seconds, 11 s counted: the scene no longer reported expires.
+        assert!(advance(&core, at(129)).is_empty());
+        assert_eq!(advance(&core, at(130)), vec![id]);
     }
 
     #[test]

@@ -131,14 +131,19 @@ void time_passes_once_a_cycle()
   node.set_now(check::at(1000));
   a.removeExpiredCooperateStatus();  // The first reading is the core's time 0.
   a.updateCooperateStatus(id, false, State::WAITING_FOR_EXECUTION, 3, 3, check::at(1000));
-  node.set_now(check::at(1006));
-  for (int i = 0; i < 3; ++i) {
-    a.removeExpiredCooperateStatus();
-    b.removeExpiredCooperateStatus();
+  // Cycles a second apart (a longer step counts the step limit, [COOP-ENGINE-STEP.1]).
+  for (int32_t second = 1001; second <= 1006; ++second) {
+    node.set_now(check::at(second));
+    for (int i = 0; i < 3; ++i) {
+      a.removeExpiredCooperateStatus();
+      b.removeExpiredCooperateStatus();
+    }
   }
   CHECK(a.isRegistered(id), "six seconds pass once, however many interfaces tell the core");
-  node.set_now(check::at(1011));
-  b.removeExpiredCooperateStatus();
+  for (int32_t second = 1007; second <= 1011; ++second) {
+    node.set_now(check::at(second));
+    b.removeExpiredCooperateStatus();
+  }
   CHECK(!a.isRegistered(id), "eleven seconds unreported: expired");
   bool logged = false;
   for (const auto & line : log.lines) {

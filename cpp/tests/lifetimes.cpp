@@ -24,8 +24,10 @@ void interface_outlives_its_node()
   const auto clock = node->get_clock();
   node.reset();
   // Every call that read the node reads what the interface kept.
-  clock->set_now(check::at(30));
-  rtc.removeExpiredCooperateStatus();
+  for (int32_t second = 6; second <= 30; ++second) {
+    clock->set_now(check::at(second));
+    rtc.removeExpiredCooperateStatus();
+  }
   CHECK(!rtc.isRegistered(id), "the scene expired on the kept clock");
   rtc.print();
   rtc.updateCooperateStatus(id, true, State::RUNNING, 10.0, 10.0, check::at(30));

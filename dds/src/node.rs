@@ -65,6 +65,7 @@ impl Options {
         engine::Options {
             scene_quota: self.scene_quota,
             publish_every_ms: u64::try_from(self.publish_every.as_millis()).unwrap_or(u64::MAX),
+            ..engine::Options::default()
         }
     }
 }
@@ -154,13 +155,13 @@ impl Node {
         let mut events = Events::with_capacity(64);
         while !stop.load(Ordering::Relaxed) {
             let now = self.clock.now();
-            let until_publication =
-                Duration::from_millis(self.shared.read(|engine| engine.until_publication_ms(now)));
+            let until_timeout =
+                Duration::from_millis(self.shared.read(|engine| engine.until_timeout_ms(now)));
             wait(
                 &mut self.poll,
                 &mut events,
                 !self.replies.is_empty(),
-                until_publication,
+                until_timeout,
             )?;
             self.step();
         }

@@ -245,10 +245,9 @@ impl Stack {
         let mut events = Events::with_capacity(256);
         while !stop.load(Ordering::Relaxed) {
             let now = self.clock.now();
-            let until_publication =
-                Duration::from_millis(self.relay.engine().until_publication_ms(now));
+            let until_timeout = Duration::from_millis(self.relay.engine().until_timeout_ms(now));
             let busy = !(self.replies.is_empty() && self.relay.is_idle());
-            wait(&mut self.poll, &mut events, busy, until_publication)?;
+            wait(&mut self.poll, &mut events, busy, until_timeout)?;
             self.step();
         }
         Ok(())

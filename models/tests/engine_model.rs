@@ -16,6 +16,18 @@ fn model() -> EngineModel {
         horizon_ms: 3,
         geometry: false,
         velocity: false,
+        jumps: false,
+    })
+    .expect("valid bounds")
+}
+
+/// As [`model`] with the clock to 2 ms and a step limit of 1 ms: every step of the clock of
+/// 2 ms is a jump.
+fn jumping() -> EngineModel {
+    EngineModel::new(EngineBounds {
+        horizon_ms: 2,
+        jumps: true,
+        ..model().bounds()
     })
     .expect("valid bounds")
 }
@@ -28,6 +40,7 @@ fn geometry(velocity: bool) -> EngineModel {
         horizon_ms: 0,
         geometry: true,
         velocity,
+        jumps: false,
     })
     .expect("valid bounds")
 }
@@ -39,6 +52,17 @@ fn the_engine_meets_its_rules() {
     assert_eq!(failing, Vec::<&str>::new());
     println!("engine model, 2 identifiers, the clock to 3 ms: {unique} unique states");
     assert_eq!(unique, pins::ENGINE_2.unique);
+}
+
+/// With a clock that jumps, every property holds (a scene lives its time to live in the core's
+/// time, and a jump leaves a scene reported before it live), every witness is reached, and the
+/// count is the pinned one.
+#[test]
+fn a_jumping_clock_retires_no_scene_before_its_time() {
+    let (failing, unique) = failing(jumping());
+    assert_eq!(failing, Vec::<&str>::new());
+    println!("engine model, 2 identifiers, the clock to 2 ms, jumps: {unique} unique states");
+    assert_eq!(unique, pins::ENGINE_JUMPS.unique);
 }
 
 /// The messages of steering and of velocity scenes at every special distance are the spec's,
@@ -69,6 +93,12 @@ fn each_property_fails_on_its_planted_fault() {
         let (failing, _) = failing(model().with_fault(fault).focus(property));
         assert_eq!(failing, vec![property], "{fault:?}");
     }
+    let (uncapped, _) = failing(
+        jumping()
+            .with_fault(EngineFault::StepUncapped)
+            .focus(engine::STEP),
+    );
+    assert_eq!(uncapped, vec![engine::STEP], "StepUncapped");
     for (fault, velocity) in [
         (EngineFault::UndecidedAsUnknown, true),
         (EngineFault::FactorsByIdentifier, false),

@@ -15,14 +15,24 @@ use serde_json::json;
 async fn a_command_after_the_time_to_live_is_refused_between_ticks() {
     let mut config = cooperation_adapters::settings::parse(SETTINGS).expect("the settings read");
     config.limits.ttl_ms = 200;
-    let served = serve_config(
+    // No tick for an hour, and a step limit to match (`[COOP-ENGINE-STEP.1]`): only the calls
+    // tell the core the time.
+    let hour = Duration::from_secs(3_600);
+    let node = cooperation_server::Node::with_options(
         config,
+        cooperation_adapters::engine::Options {
+            max_step_ms: 3_600_000,
+            ..cooperation_adapters::engine::Options::default()
+        },
+    )
+    .expect("a configuration");
+    let served = serve_node(
+        std::sync::Arc::new(node),
         Options {
-            tick_every: Duration::from_secs(3_600),
-            publish_every: Duration::from_secs(3_600),
+            tick_every: hour,
+            publish_every: hour,
             ..Options::default()
         },
-        cooperation_server::node::SCENE_QUOTA,
     )
     .await;
     let mut module = Client::connect(&served.url).await;

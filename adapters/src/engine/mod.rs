@@ -9,7 +9,8 @@
 //!   `dds::Endpoint::read`): first the core is told the time of the request ([`Now`]), so no
 //!   command applies to a scene whose time to live had passed, then the request is answered. The
 //!   answer says what it changed ([`Change`]).
-//! - [`Engine::handle_timeout`] tells the core the time between requests (scenes age out).
+//! - [`Engine::handle_timeout`] tells the core the time between requests (scenes age out); a
+//!   host calls it at the latest after [`Engine::until_timeout_ms`].
 //! - [`Engine::poll_publication`] hands out the streams' messages when a publication is due: at
 //!   once after a change the streams show (`[COOP-ENGINE-PUBLISH.1]`), and every
 //!   [`Options::publish_every_ms`] otherwise (so stamps and ages stay fresh).
@@ -54,6 +55,9 @@ use scenes::SceneArray;
 pub const PUBLISH_EVERY_MS: u64 = 100;
 /// The same interval as publications per second, as the nodes' `--rate` takes it.
 pub const PUBLICATION_RATE_HZ: f64 = 1000.0 / PUBLISH_EVERY_MS as f64;
+/// The most one step of the host's clock counts unless a host says otherwise, in milliseconds
+/// (`[COOP-ENGINE-STEP.1]`).
+pub const MAX_STEP_MS: u64 = 1000;
 
 /// How the engine runs: the same defaults for every host.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
@@ -64,6 +68,11 @@ pub struct Options {
     pub scene_quota: usize,
     /// The interval of periodic publications, in milliseconds (at least 1).
     pub publish_every_ms: u64,
+    /// The most the core's time moves for one step of the host's clock, in milliseconds (at
+    /// least 1; `[COOP-ENGINE-STEP.1]`): a longer step is a clock that jumped or a host that
+    /// stalled, and counts this much. A host is told to tell the time at least this often
+    /// ([`Engine::until_timeout_ms`]).
+    pub max_step_ms: u64,
 }
 
 impl Default for Options {
@@ -71,6 +80,7 @@ impl Default for Options {
         Self {
             scene_quota: SCENE_QUOTA,
             publish_every_ms: PUBLISH_EVERY_MS,
+            max_step_ms: MAX_STEP_MS,
         }
     }
 }
@@ -143,6 +153,9 @@ pub struct Engine {
     options: Options,
     /// The first reading, the engine's time 0.
     origin_ns: Option<i64>,
+    /// The latest reading the core was told of, in the engine's milliseconds: the core's own
+    /// time ([`Host::told_ms`]) counts each step from it at most [`Options::max_step_ms`].
+    read_ms: u64,
     /// Counts the changes made to the core.
     revision: u64,
     /// A change the streams show came since the last publication (or there was none yet).
@@ -185,6 +198,7 @@ impl Engine {
             host: Host::new(state, rtc),
             options,
             origin_ns: None,
+            read_ms: 0,
             revision: 0,
             unpublished: true,
             next_publication_ms: 0,
@@ -235,11 +249,11 @@ impl Engine {
         u64::try_from(now.reading_ns.saturating_sub(origin) / 1_000_000).unwrap_or(0)
     }
 
-    /// The engine time the core was last told, as a [`Now`] whose stamp is `stamp`: handling a
+    /// The latest reading the core was told of, as a [`Now`] whose stamp is `stamp`: handling a
     /// request at this time tells the core no time.
     #[must_use]
     pub fn told(&self, stamp: Time) -> Now {
-        let told_ns = i64::try_from(self.host.told_ms())
+        let told_ns = i64::try_from(self.read_ms)
             .unwrap_or(i64::MAX)
             .saturating_mul(1_000_000);
         Now::new(self.origin_ns.unwrap_or(0).saturating_add(told_ns), stamp)
@@ -255,11 +269,18 @@ impl Engine {
         }
     }
 
-    /// Tells the core the time `now` (the core's `Tick` for the time since it was last told):
-    /// the transition if time passed.
+    /// Tells the core the time `now`: the core's `Tick` for the step from the latest reading it
+    /// was told of, at most [`Options::max_step_ms`] (`[COOP-ENGINE-STEP.1]`); a reading before
+    /// it is no time passing. The transition if time passed.
     fn catch_up(&mut self, now: Now) -> Option<Transition> {
         let now_ms = self.engine_ms(now);
-        match self.host.advance_to(now_ms) {
+        let step_ms = now_ms.saturating_sub(self.read_ms);
+        self.read_ms = self.read_ms.max(now_ms);
+        let counted_ms = step_ms.min(self.options.max_step_ms.max(1));
+        match self
+            .host
+            .advance_to(self.host.told_ms().saturating_add(counted_ms))
+        {
             Ok(transition) => transition,
             Err(error) => {
                 tracing::error!(%error, "the core refused a tick");
@@ -369,5 +390,17 @@ impl Engine {
     pub fn until_publication_ms(&self, now: Now) -> u64 {
         let now_ms = self.ms_at(now);
         self.next_publication_ms.saturating_sub(now_ms)
+    }
+
+    /// Milliseconds from `now` until the host should call again: a publication is due, or the
+    /// step from the latest reading the core was told of reaches [`Options::max_step_ms`], after
+    /// which time the host's clock runs would no longer all count (`[COOP-ENGINE-STEP.1]`).
+    #[must_use]
+    pub fn until_timeout_ms(&self, now: Now) -> u64 {
+        let step_ends_ms = self
+            .read_ms
+            .saturating_add(self.options.max_step_ms.max(1))
+            .saturating_sub(self.ms_at(now));
+        self.until_publication_ms(now).min(step_ends_ms)
     }
 }

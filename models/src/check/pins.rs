@@ -251,6 +251,17 @@ pub const ENGINE_2: Pin = Pin {
     generated: None,
 };
 
+/// The engine model with a clock that jumps: a step limit of 1 ms, 2 identifiers, its clock
+/// to 2 ms.
+pub const ENGINE_JUMPS: Pin = Pin {
+    test: "models/tests/engine_model.rs::a_jumping_clock_retires_no_scene_before_its_time",
+    model: "engine, jumping clock",
+    bounds: "2 ids, 2 ms, step limit 1 ms",
+    search: "BFS",
+    unique: 217_050,
+    generated: None,
+};
+
 /// The engine model's message check: 2 steering scenes starting at every special distance.
 pub const ENGINE_GEOMETRY_STEERING: Pin = Pin {
     test: "models/tests/engine_model.rs::the_messages_are_the_specs_at_every_special_distance",
@@ -272,7 +283,7 @@ pub const ENGINE_GEOMETRY_VELOCITY: Pin = Pin {
 };
 
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 24] = [
+pub const ALL: [Pin; 25] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -292,6 +303,7 @@ pub const ALL: [Pin; 24] = [
     RTC_TWO_AVOIDANCES,
     RTC_QUOTA,
     ENGINE_2,
+    ENGINE_JUMPS,
     ENGINE_GEOMETRY_STEERING,
     ENGINE_GEOMETRY_VELOCITY,
     RELAY_1,

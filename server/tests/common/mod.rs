@@ -51,6 +51,11 @@ pub async fn serve_quota(options: Options, quota: usize) -> Served {
 pub async fn serve_config(config: cooperation::Config, options: Options, quota: usize) -> Served {
     let node =
         Arc::new(Node::with_scene_quota(config, quota).expect("the settings are a configuration"));
+    serve_node(node, options).await
+}
+
+/// Serves `node` with `options` on a loopback port.
+pub async fn serve_node(node: Arc<Node>, options: Options) -> Served {
     let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
         .await
         .expect("a loopback port");

@@ -211,8 +211,11 @@ public:
 
   /// The owner reports a scene: registers it if it is not live (and moves it to `state` in the
   /// same step where the lifecycle allows, `[COOP-DEV-REGISTER-PHASE.1]`), updates it otherwise.
-  /// `stamp` is not read: a scene's age counts from the core's last report of it
-  /// (`[COOP-DEV-EXPIRY.1]`). `override_rtc_auto_mode` is honoured where it agrees with the
+  /// The report is made at the node clock's now: the core is told that time first, as
+  /// `removeExpiredCooperateStatus` tells it, so the scene lives its time to live from now
+  /// whichever of the two a module calls first (`[COOP-ENGINE-TIME.1]`); a step of the clock
+  /// longer than the step limit (a jump) counts the limit (`[COOP-ENGINE-STEP.1]`). `stamp` is
+  /// not read. `override_rtc_auto_mode` is honoured where it agrees with the
   /// module's policy, and otherwise logged: auto mode is a module's policy, not a scene's
   /// (`[COOP-DEV-AUTO-MODE-KEY.1]`). A refusal changes nothing and is logged
   /// (`[COOP-DEV-SILENT-DROP.1]`).
@@ -242,13 +245,9 @@ public:
 
   /// Tells the node's core the node's time: scenes not reported for the core's TTL (10 s by
   /// default) expire, and are logged. Every interface of the node may call it each cycle; time
-  /// passes once (`[COOP-DEV-EXPIRY.1]`).
-  void removeExpiredCooperateStatus()
-  {
-    for (const auto & expired : core_.advance(detail::stamp_of(clock_->now()))) {
-      detail::info(logger_, "uuid : " + detail::to_string(expired) + " expired");
-    }
-  }
+  /// passes once (`[COOP-DEV-EXPIRY.1]`), and a step longer than the engine's step limit (1 s:
+  /// a seek, the first `/clock`, a stalled planner) counts the limit (`[COOP-ENGINE-STEP.1]`).
+  void removeExpiredCooperateStatus() { tell_time(); }
 
   /// Removes every live scene of this interface, all or none.
   void clearCooperateStatus()
@@ -309,6 +308,14 @@ public:
   const cooperation::rtc::InterfaceCore & core() const { return core_; }
 
 private:
+  /// Tells the node's core the node clock's now; logs the scenes that expired by then.
+  void tell_time()
+  {
+    for (const auto & expired : core_.advance(detail::stamp_of(clock_->now()))) {
+      detail::info(logger_, "uuid : " + detail::to_string(expired) + " expired");
+    }
+  }
+
   void update(
     const std::optional<std::string> & sequence, const UUID & uuid, const bool safe,
     const uint8_t state, const double start_distance, const double finish_distance, const Time &,
@@ -323,6 +330,7 @@ private:
                                " override_rtc_auto_mode is not honoured: a scene follows its "
                                "module's policy [COOP-DEV-AUTO-MODE-KEY.1]");
     }
+    tell_time();
     logged(
       "update", uuid,
       core_.update(bytes, safe, state, start_distance, finish_distance, requested, sequence));

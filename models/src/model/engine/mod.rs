@@ -16,7 +16,7 @@
 mod properties;
 mod written;
 
-pub use properties::{properties, ANSWER, HINTED, LIFETIME, MESSAGES, PUBLISH, TIME};
+pub use properties::{properties, ANSWER, HINTED, LIFETIME, MESSAGES, PUBLISH, STEP, TIME};
 pub use written::written;
 
 use std::hash::{Hash, Hasher};
@@ -75,13 +75,16 @@ pub enum EngineFault {
     UndecidedAsUnknown,
     /// The factors are listed by identifier, not by distance.
     FactorsByIdentifier,
+    /// A step of the clock counts whole, however long (`[COOP-ENGINE-STEP.1]` not applied):
+    /// with [`EngineBounds::jumps`], a scene reported just before a jump retires in it.
+    StepUncapped,
     /// A steering factor's start and finish distances are swapped.
     StartFinishSwapped,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -89,6 +92,7 @@ impl EngineFault {
         Self::UndecidedAsUnknown,
         Self::FactorsByIdentifier,
         Self::StartFinishSwapped,
+        Self::StepUncapped,
     ];
 }
 
@@ -106,7 +110,16 @@ pub struct EngineBounds {
     /// The scenes are an intersection's (velocity factors), not a lane change's (steering).
     #[serde(default)]
     pub velocity: bool,
+    /// The clock jumps: a step of the clock counts at most 1 ms ([`JUMP_STEP_MS`]), so every
+    /// step of 2 ms or more is a jump (`[COOP-ENGINE-STEP.1]`); otherwise the engine's default
+    /// limit, which no step of the model reaches.
+    #[serde(default)]
+    pub jumps: bool,
 }
+
+/// The step limit with [`EngineBounds::jumps`], in milliseconds: the time to live, so that a
+/// scene reported at the reading the core was last told of outlives any one step.
+pub const JUMP_STEP_MS: u64 = TTL_MS;
 
 /// An action of the engine model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -148,6 +161,14 @@ pub struct EngineStep {
     /// When each identifier's scene was last reported, accepted, until it was removed (history
     /// annotation).
     pub reported_ms: Vec<Option<u64>>,
+    /// The latest reading the core should have been told of, by the rule's own count (history
+    /// annotation): every call but a publication poll tells the core its reading.
+    pub read_ms: u64,
+    /// The core's time by the rule's own count: each step from [`read_ms`](Self::read_ms) counts
+    /// at most the step limit (`[COOP-ENGINE-STEP.1]`; history annotation).
+    pub core_ms: u64,
+    /// [`reported_ms`](Self::reported_ms) in the core's time ([`core_ms`](Self::core_ms)).
+    pub reported_core_ms: Vec<Option<u64>>,
     /// What the last publication carried ([`content`]); `None` before the first.
     pub published: Option<Vec<u8>>,
     /// Sticky flags of broken step properties ([`broken`]).
@@ -168,10 +189,14 @@ impl Hash for EngineStep {
             owner.map(|binding| binding.name.as_str()).hash(state);
         }
         engine.host().told_ms().hash(state);
+        engine.told(Time::default()).reading_ns.hash(state);
         engine.until_publication_ms(self.now()).hash(state);
         engine.publication_due(self.now()).hash(state);
         self.clock_ms.hash(state);
         self.reported_ms.hash(state);
+        self.read_ms.hash(state);
+        self.core_ms.hash(state);
+        self.reported_core_ms.hash(state);
         self.published.hash(state);
         self.broken.hash(state);
     }
@@ -332,6 +357,26 @@ impl EngineModel {
         &self.config
     }
 
+    /// The step limit the engine is built with (unless a fault says otherwise).
+    const fn max_step_ms(&self) -> u64 {
+        if self.bounds.jumps {
+            JUMP_STEP_MS
+        } else {
+            engine::MAX_STEP_MS
+        }
+    }
+
+    /// Counts the step to the clock's reading in `next`'s core time, as `[COOP-ENGINE-STEP.1]`
+    /// says the core is told it: at most the step limit; a reading not after the latest told
+    /// is no time.
+    fn tell(&self, next: &mut EngineStep) {
+        if next.clock_ms > next.read_ms {
+            let step_ms = next.clock_ms - next.read_ms;
+            next.core_ms = next.core_ms.saturating_add(step_ms.min(self.max_step_ms()));
+            next.read_ms = next.clock_ms;
+        }
+    }
+
     fn position(&self, id: SceneId) -> Option<usize> {
         self.ids.iter().position(|&known| known == id)
     }
@@ -379,11 +424,12 @@ fn report(interface: &str, id: SceneId, safe: bool, start: f32) -> SyncRequest {
 }
 
 /// What the core's own transition answers to `input` at the request's time: the core of
-/// `before` told the time since it was last told, then given `input`. `None` if the core
-/// refuses it; the state it leaves otherwise.
-fn oracle(before: &Engine, clock_ms: u64, input: &Input) -> Option<State> {
+/// `before` told the time since it was last told (up to `core_ms`, the core's time at the
+/// request by the model's count), then given `input`. `None` if the core refuses it; the
+/// state it leaves otherwise.
+fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Option<State> {
     let mut state = before.state().clone();
-    let elapsed_ms = clock_ms.saturating_sub(before.host().told_ms());
+    let elapsed_ms = core_ms.saturating_sub(before.host().told_ms());
     if elapsed_ms > 0 {
         state.apply(&Input::Tick { elapsed_ms }).ok()?;
     }
@@ -400,6 +446,11 @@ impl Model for EngineModel {
             engine::Options {
                 scene_quota: 0,
                 publish_every_ms: PUBLISH_EVERY_MS,
+                max_step_ms: if self.fault == Some(EngineFault::StepUncapped) {
+                    u64::MAX
+                } else {
+                    self.max_step_ms()
+                },
             },
         )
         .unwrap_or_else(|_| unreachable_engine());
@@ -409,6 +460,9 @@ impl Model for EngineModel {
             engine,
             clock_ms: 0,
             reported_ms: vec![None; self.ids.len()],
+            read_ms: 0,
+            core_ms: 0,
+            reported_core_ms: vec![None; self.ids.len()],
             published: None,
             broken: 0,
         }]
@@ -443,6 +497,9 @@ impl Model for EngineModel {
     fn next_state(&self, last: &Self::State, action: Self::Action) -> Option<Self::State> {
         let mut next = last.clone();
         let now = last.now();
+        if !matches!(action, EngineAction::Wait | EngineAction::Publish) {
+            self.tell(&mut next);
+        }
         match action {
             EngineAction::Wait => next.clock_ms += 1,
             EngineAction::Tick => {
@@ -473,6 +530,9 @@ impl Model for EngineModel {
                     if let Some(slot) = next.reported_ms.get_mut(at) {
                         *slot = Some(last.clock_ms);
                     }
+                    if let Some(slot) = next.reported_core_ms.get_mut(at) {
+                        *slot = Some(next.core_ms);
+                    }
                 }
             }
             EngineAction::Remove(id) => {
@@ -485,11 +545,11 @@ impl Model for EngineModel {
                 let Reply::Sync(response) = reply else {
                     return None;
                 };
-                if response.success {
-                    if let Some(slot) = self
-                        .position(id)
-                        .and_then(|at| next.reported_ms.get_mut(at))
-                    {
+                if let (true, Some(at)) = (response.success, self.position(id)) {
+                    if let Some(slot) = next.reported_ms.get_mut(at) {
+                        *slot = None;
+                    }
+                    if let Some(slot) = next.reported_core_ms.get_mut(at) {
                         *slot = None;
                     }
                 }
@@ -501,10 +561,11 @@ impl Model for EngineModel {
                     commands: commands.to_vec(),
                 };
                 if self.operator_call(last, &mut next, request, &input) {
+                    // The scene's age in the core's time at the request's.
                     let age = self
                         .position(id)
-                        .and_then(|at| last.reported_ms.get(at).copied().flatten())
-                        .map(|reported| last.clock_ms.saturating_sub(reported));
+                        .and_then(|at| last.reported_core_ms.get(at).copied().flatten())
+                        .map(|reported| next.core_ms.saturating_sub(reported));
                     if age.map_or(true, |age| age > self.config.limits.ttl_ms) {
                         next.broken |= broken::STALE_COMMAND;
                     }
@@ -530,6 +591,9 @@ impl Model for EngineModel {
         if self.bounds.horizon_ms <= self.config.limits.ttl_ms {
             all.retain(|property| property.name != properties::STALE_WITNESS);
         }
+        if !self.bounds.jumps {
+            all.retain(|property| property.name != properties::JUMP_WITNESS);
+        }
         if let Some(focus) = self.focus {
             all.retain(|property| property.name == focus);
         }
@@ -549,7 +613,7 @@ impl EngineModel {
         input: &Input,
     ) -> bool {
         let reply = self.handle(next, Request::Ad(request), last.now());
-        let expected = oracle(&last.engine, last.clock_ms, input);
+        let expected = oracle(&last.engine, next.core_ms, input);
         judge(next, &reply, expected.as_ref());
         reply.success()
     }

@@ -11,6 +11,11 @@ use crate::model::spec::messages;
 /// `COOP-ENGINE-TIME.1`'s property.
 pub const TIME: &str =
     "COOP-ENGINE-TIME.1: no command applies to a scene whose time to live had passed at the request's time";
+/// `COOP-ENGINE-STEP.1`'s property.
+pub const STEP: &str = "COOP-ENGINE-STEP.1: a scene lives its time to live in the core's time, where a step of the clock counts at most the step limit";
+/// The witness of a jump: reachable only when a step of the clock is longer than the limit.
+pub(super) const JUMP_WITNESS: &str =
+    "witness: a scene outlives its time to live on the clock after the core is told (a jump)";
 /// `COOP-ENGINE-TIME.1`'s other property.
 pub const LIFETIME: &str =
     "COOP-ENGINE-TIME.1: a scene lives its time to live from the time of its last report";
@@ -31,16 +36,44 @@ fn unbroken<const FLAG: u8>(_: &EngineModel, state: &EngineStep) -> bool {
     state.broken & FLAG == 0
 }
 
+/// Every scene reported and not removed (`reported`: when, by `now`'s clock), whose time to live
+/// has not passed by `now` since its last report, is live.
+fn live_while_fresh(
+    model: &EngineModel,
+    state: &EngineStep,
+    reported: &[Option<u64>],
+    now: u64,
+) -> bool {
+    let ttl = model.config().limits.ttl_ms;
+    reported.iter().enumerate().all(|(at, reported)| {
+        let id = cooperation::SceneId::from_u128(at as u128 + 1);
+        reported.map_or(true, |reported| now.saturating_sub(reported) > ttl)
+            || state.engine.state().scene(id).is_some()
+    })
+}
+
 /// Every scene reported and not removed, whose time to live has not passed on the clock since
 /// its last report, is live.
 fn reported_scenes_live(model: &EngineModel, state: &EngineStep) -> bool {
+    live_while_fresh(model, state, &state.reported_ms, state.clock_ms)
+}
+
+/// Every scene reported and not removed, whose time to live has not passed in the core's time
+/// by the model's count since its last report, is live.
+fn reported_scenes_live_in_core_time(model: &EngineModel, state: &EngineStep) -> bool {
+    live_while_fresh(model, state, &state.reported_core_ms, state.core_ms)
+}
+
+/// A scene is live though its time to live has passed on the clock since its last report, the
+/// core told of the clock's reading: a step longer than the limit counted less.
+fn scene_outlives_a_jump(model: &EngineModel, state: &EngineStep) -> bool {
     let ttl = model.config().limits.ttl_ms;
-    state.reported_ms.iter().enumerate().all(|(at, reported)| {
-        let id = cooperation::SceneId::from_u128(at as u128 + 1);
-        reported.map_or(true, |reported| {
-            state.clock_ms.saturating_sub(reported) > ttl
-        }) || state.engine.state().scene(id).is_some()
-    })
+    state.read_ms == state.clock_ms
+        && state.reported_ms.iter().enumerate().any(|(at, reported)| {
+            let id = cooperation::SceneId::from_u128(at as u128 + 1);
+            reported.is_some_and(|reported| state.clock_ms.saturating_sub(reported) > ttl)
+                && state.engine.state().scene(id).is_some()
+        })
 }
 
 /// The factors the engine writes are those the spec's oracle states for the core, field by
@@ -87,11 +120,13 @@ pub fn properties() -> Vec<Property<EngineModel>> {
     vec![
         Property::always(TIME, unbroken::<{ broken::STALE_COMMAND }>),
         Property::always(LIFETIME, reported_scenes_live),
+        Property::always(STEP, reported_scenes_live_in_core_time),
         Property::always(PUBLISH, published_shows_state),
         Property::always(HINTED, unbroken::<{ broken::UNHINTED }>),
         Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
         Property::always(MESSAGES, messages_are_the_spec),
         Property::sometimes(STALE_WITNESS, stale_scene_awaits_tick),
+        Property::sometimes(JUMP_WITNESS, scene_outlives_a_jump),
         Property::sometimes("witness: an operator's command applies", command_applied),
     ]
 }
