@@ -1,5 +1,7 @@
 // Upstream's unit test of the RTC interface (`test_rtc_interface.cpp`: one test, twelve steps,
-// six answers after each), replayed call for call through the C++ class. Each answer is
+// six answers after each), replayed call for call through the C++ class. The steps are those of
+// autowarefoundation/autoware.universe 0.43.0 (commit b8ce82e375, 2025-03-21), where the test
+// was added by PR #9202. Each answer is
 // asserted against upstream's expected value; where this library answers differently, the
 // assertion states this library's value and names the deviation of `spec/cooperation.md`
 // section 9 that explains it, and the test checks that the spec has that deviation. An answer
@@ -150,6 +152,14 @@ int main()
   report(rtc, third, false, State::RUNNING);
   CHECK(command(node, third, Command::ACTIVATE), "step 5: the command applies");
   expect(5, rtc, third, {true, true, true, false, true, false},
+         {true, true, true, false, true, false});
+  // Upstream's own path to step 5: its scene was stored waiting at step 4, then reported
+  // running. A fresh identifier registered waiting takes the same path here.
+  const UUID waited = check::uuid(6);
+  report(rtc, waited, true, State::WAITING_FOR_EXECUTION);
+  report(rtc, waited, false, State::RUNNING);
+  CHECK(command(node, waited, Command::ACTIVATE), "step 5 (from waiting): the command applies");
+  expect(5, rtc, waited, {true, true, true, false, true, false},
          {true, true, true, false, true, false});
 
   // Step 6. SUCCEEDED. Upstream keeps the scene listed; here it retires at once, and is

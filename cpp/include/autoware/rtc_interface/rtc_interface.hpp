@@ -307,7 +307,34 @@ public:
   /// The interface in the core: whether its name is bound, and the calls beneath this class.
   const cooperation::rtc::InterfaceCore & core() const { return core_; }
 
+  /// Upstream's unit test reaches `updateCooperateCommandStatus` and `stored_commands_` through
+  /// its fixture, `RTCInterfaceTest`; both are here, with upstream's signatures, for that test.
+  friend class RTCInterfaceTest;
+
 private:
+  /// Applies `commands` as the CooperateCommands service does: one batch, all or nothing
+  /// (`[COOP-DEV-BATCH.1]`), a refusal logged. Upstream's private method.
+  void updateCooperateCommandStatus(const std::vector<CooperateCommand> & commands)
+  {
+    apply(commands);
+  }
+
+  /// What the core answered `commands`, entry for entry; a refusal is logged.
+  cooperation::rtc::Answered apply(const std::vector<CooperateCommand> & commands)
+  {
+    std::vector<cooperation::rtc::CommandIn> in;
+    for (const auto & command : commands) {
+      in.push_back(
+        cooperation::rtc::CommandIn{detail::id_of(command.uuid), command.module.type, command.command.type});
+    }
+    auto answered = core_.cooperate_commands(in);
+    if (!answered.outcome.ok) {
+      detail::warn(
+        logger_, core_.name() + ": commands refused: " + detail::why(answered.outcome));
+    }
+    return answered;
+  }
+
   /// Tells the node's core the node clock's now; logs the scenes that expired by then.
   void tell_time()
   {
@@ -349,24 +376,15 @@ private:
     const typename CooperateCommands::Request::SharedPtr request,
     const typename CooperateCommands::Response::SharedPtr response)
   {
-    std::vector<cooperation::rtc::CommandIn> commands;
-    for (const auto & command : request->commands) {
-      commands.push_back(
-        cooperation::rtc::CommandIn{detail::id_of(command.uuid), command.module.type, command.command.type});
-    }
     // The adapter's response, entry for entry ([COOP-DEV-BATCH.1]: each says whether the batch
     // applied).
-    const auto answered = core_.cooperate_commands(commands);
+    const auto answered = apply(request->commands);
     for (const auto & entry : answered.responses) {
       CooperateResponse answer;
       answer.uuid = detail::uuid_of(entry.uuid);
       answer.module.type = entry.module;
       answer.success = entry.success;
       response->responses.push_back(answer);
-    }
-    if (!answered.outcome.ok) {
-      detail::warn(
-        logger_, core_.name() + ": commands refused: " + detail::why(answered.outcome));
     }
   }
 
@@ -405,6 +423,9 @@ private:
   std::shared_ptr<void> srv_commands_;
   std::shared_ptr<void> srv_auto_mode_;
   std::shared_ptr<void> timer_;
+  /// Always empty: no command is stored to apply later (`[COOP-DEV-STORED-COMMANDS.1]`).
+  /// Upstream's member, which its unit test reads.
+  std::vector<CooperateCommand> stored_commands_;
 };
 
 using RTCInterface = BasicRTCInterface<>;
