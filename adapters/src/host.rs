@@ -10,7 +10,7 @@ use crate::rtc::{Interface, Rtc, RtcError, View};
 use crate::wire;
 
 /// The core as a process serving it keeps it: the [`State`], the RTC interfaces' routing
-/// ([`Rtc`]), and the monotonic time the core was last told of.
+/// ([`Rtc`]), and the core's time: how much time the core was told of.
 ///
 /// One value, so that one lock ([`Shared`]) covers everything a call reads or writes: a node
 /// serving operators and planning modules has no second lock and no lock order. Every change is
@@ -21,7 +21,7 @@ use crate::wire;
 pub struct Host {
     state: State,
     rtc: Rtc,
-    /// The monotonic time the core was last told of, in milliseconds.
+    /// The core's time, in milliseconds from the host's start: the time it was told of, summed.
     told_ms: u64,
 }
 
@@ -84,16 +84,18 @@ impl Host {
         self.rtc.view(&self.state, name)
     }
 
-    /// The monotonic time the core was last told of, in milliseconds from the host's start.
+    /// The core's time, in milliseconds from the host's start: the time it was told of, summed
+    /// (the engine counts each step of its host's clock at most its step limit, so this is not
+    /// the clock's reading, `[COOP-ENGINE-STEP.1]`).
     #[must_use]
     pub const fn told_ms(&self) -> u64 {
         self.told_ms
     }
 
-    /// Tells the core that the host's monotonic clock reads `now_ms`: the core's `Tick` for the
-    /// time since it was last told ([`Rtc::tick`], which also forgets the routes of forgotten
-    /// scenes). `None` if no time passed; a reading earlier than the last one is a clock that
-    /// went back, and is taken as no time passing, so that no scene ages twice.
+    /// Tells the core that its time is `now_ms`: the core's `Tick` for the time since it was
+    /// last told ([`Rtc::tick`], which also forgets the routes of forgotten scenes). `None` if
+    /// no time passed; a time earlier than the last one is taken as no time passing, so that no
+    /// scene ages twice.
     ///
     /// # Errors
     /// The core's rejection of the tick (a tick is never rejected today).

@@ -1,15 +1,18 @@
 // The node's clock as planning modules drive it: each cycle every module reports its scenes and
 // then calls removeExpiredCooperateStatus, one module after another, and the clock may jump
 // (a bag seek, the first /clock message, a stalled planner) or go back (a bag played again).
-// No jump retires a scene its module still reports ([COOP-ENGINE-STEP.1]); a report is made at
-// the clock's now whichever call comes first ([COOP-ENGINE-TIME.1]); a scene no longer reported
-// still expires. Run under AddressSanitizer too by tools/cpp.
+// No jump retires a scene its module still reports ([COOP-ENGINE-STEP.1]); a report or a
+// command is made at the clock's now whichever call comes first ([COOP-ENGINE-TIME.1]); a scene
+// no longer reported still expires, after a clock that went back too. Run under
+// AddressSanitizer too by tools/cpp.
 #include "check.hpp"
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+using autoware::rtc_interface::Command;
+using autoware::rtc_interface::CooperateCommands;
 using autoware::rtc_interface::RTCInterface;
 using autoware::rtc_interface::State;
 using cooperation::rtc::Node;
@@ -137,6 +140,49 @@ void a_report_is_made_at_the_clocks_now()
   crosswalk.removeExpiredCooperateStatus();
   CHECK(!crosswalk.isRegistered(id), "and expires after it");
 }
+void a_clock_that_went_back_still_ages_scenes()
+{
+  Node node("planner");
+  RTCInterface crosswalk(&node, "crosswalk", true);
+  RTCInterface blind_spot(&node, "blind_spot", true);
+  std::vector<Module> both{{crosswalk, check::uuid(6)}, {blind_spot, check::uuid(7)}};
+  cycle(node, check::at(100), both);
+  // The bag is played again from 50 s; the blind spot module no longer reports its scene.
+  std::vector<Module> crossing_only{{crosswalk, check::uuid(6)}};
+  int64_t ms = 0;
+  do {
+    cycle(node, after(50, ms), crossing_only);
+    ms += 100;
+  } while (blind_spot.isRegistered(check::uuid(7)) && ms < 60000);
+  CHECK(ms == 10200, "time counts on from the earlier reading: expired at " + std::to_string(ms));
+  CHECK(crosswalk.isRegistered(check::uuid(6)), "the scene still reported lives");
+}
+
+void a_command_is_made_at_the_clocks_now()
+{
+  Node node("planner");
+  RTCInterface crosswalk(&node, "crosswalk", true);
+  const UUID id = check::uuid(8);
+  node.set_now(check::at(10));
+  crosswalk.updateCooperateStatus(id, true, State::WAITING_FOR_EXECUTION, 1.0, 1.0, check::at(0));
+  for (int32_t second = 11; second <= 20; ++second) {
+    node.set_now(check::at(second));
+    crosswalk.removeExpiredCooperateStatus();
+  }
+  CHECK(crosswalk.isRegistered(id), "within its time to live");
+  // 10.9 s after the report, with no call since the last second: the command tells the time.
+  node.set_now(after(20, 900));
+  CooperateCommands::Request request;
+  autoware::rtc_interface::CooperateCommand command;
+  command.uuid = id;
+  command.command.type = Command::ACTIVATE;
+  request.commands.push_back(command);
+  const auto response = node.call<CooperateCommands>("/planning/cooperate_commands/crosswalk", request);
+  CHECK(
+    response && response->responses.size() == 1 && !response->responses[0].success,
+    "a command after the scene's time to live is refused");
+  CHECK(!crosswalk.isRegistered(id), "the scene expired by the command's time");
+}
 }  // namespace
 
 int main()
@@ -145,5 +191,7 @@ int main()
   a_jump_retires_no_scene_still_reported(true);
   a_scene_no_longer_reported_still_expires();
   a_report_is_made_at_the_clocks_now();
+  a_clock_that_went_back_still_ages_scenes();
+  a_command_is_made_at_the_clocks_now();
   return check::report("clock");
 }

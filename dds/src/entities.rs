@@ -246,15 +246,15 @@ impl Server {
     }
 }
 
-/// Waits for `poll`'s events: at most until a publication is due, and no longer than
-/// [`REPLY_POLL`] while something is on its way (`busy`), else [`STOP_POLL`].
+/// Waits for `poll`'s events: at most until the engine asks to be called (`until_timeout`), and
+/// no longer than [`REPLY_POLL`] while something is on its way (`busy`), else [`STOP_POLL`].
 pub(crate) fn wait(
     poll: &mut Poll,
     events: &mut Events,
     busy: bool,
-    until_publication: Duration,
+    until_timeout: Duration,
 ) -> Result<(), String> {
-    let timeout = if busy { REPLY_POLL } else { STOP_POLL }.min(until_publication);
+    let timeout = if busy { REPLY_POLL } else { STOP_POLL }.min(until_timeout);
     match poll.poll(events, Some(timeout)) {
         Ok(()) => Ok(()),
         Err(error) if error.kind() == std::io::ErrorKind::Interrupted => Ok(()),

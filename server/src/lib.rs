@@ -136,9 +136,9 @@ impl Options {
 /// periodic publications and the clock.
 ///
 /// # Errors
-/// [`std::io::ErrorKind::InvalidInput`] with [`Options::problem`], or for a tick interval longer
-/// than the node's engine's step limit (`Options::max_step_ms` of the engine); the listener's
-/// failure; an
+/// [`std::io::ErrorKind::InvalidInput`] with [`Options::problem`], or for a tick interval not
+/// shorter than the node's engine's step limit (`Options::max_step_ms` of the engine); the
+/// listener's failure; an
 /// error if the publishing or the clock's task stops, which would leave the streams or the
 /// expiry silently stopped.
 pub async fn serve(
@@ -154,12 +154,12 @@ pub async fn serve(
         ));
     }
     let max_step_ms = node.shared().read(|engine| engine.options().max_step_ms);
-    if options.tick_every > Duration::from_millis(max_step_ms) {
+    if options.tick_every >= Duration::from_millis(max_step_ms) {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             format!(
-                "the tick interval ({:?}) is longer than the engine's step limit ({max_step_ms} ms): \
-                 the clock's time between two ticks would not all count",
+                "the tick interval ({:?}) is not shorter than the engine's step limit \
+                 ({max_step_ms} ms): the clock's time between two late ticks would not all count",
                 options.tick_every
             ),
         ));

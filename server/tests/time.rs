@@ -15,13 +15,13 @@ use serde_json::json;
 async fn a_command_after_the_time_to_live_is_refused_between_ticks() {
     let mut config = cooperation_adapters::settings::parse(SETTINGS).expect("the settings read");
     config.limits.ttl_ms = 200;
-    // No tick for an hour, and a step limit to match (`[COOP-ENGINE-STEP.1]`): only the calls
-    // tell the core the time.
+    // No tick for an hour, and a step limit longer than that (`[COOP-ENGINE-STEP.1]`): only the
+    // calls tell the core the time.
     let hour = Duration::from_secs(3_600);
     let node = cooperation_server::Node::with_options(
         config,
         cooperation_adapters::engine::Options {
-            max_step_ms: 3_600_000,
+            max_step_ms: 7_200_000,
             ..cooperation_adapters::engine::Options::default()
         },
     )

@@ -88,9 +88,9 @@ impl Default for Options {
 /// The time of a call, as the host's clock reads it.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Default)]
 pub struct Now {
-    /// A monotonic reading in nanoseconds, from any origin (the engine takes its first reading
-    /// as its time 0). A reading earlier than the last is a clock that went back: no time
-    /// passes, so that no scene ages twice.
+    /// A reading in nanoseconds, from any origin (the engine takes its first reading as its time
+    /// 0). A reading earlier than the last is a clock that went back: no time passes, and time
+    /// counts on from it (`[COOP-ENGINE-STEP.1]`).
     pub reading_ns: i64,
     /// The stamp of the messages written now.
     pub stamp: Time,
@@ -153,9 +153,11 @@ pub struct Engine {
     options: Options,
     /// The first reading, the engine's time 0.
     origin_ns: Option<i64>,
-    /// The latest reading the core was told of, in the engine's milliseconds: the core's own
-    /// time ([`Host::told_ms`]) counts each step from it at most [`Options::max_step_ms`].
-    read_ms: u64,
+    /// The reading the core was last told of, in milliseconds of the host's clock (`None` before
+    /// the first): the core's own time ([`Host::told_ms`]) counts each step from it at most
+    /// [`Options::max_step_ms`]. A reading, not the engine's time, so that a clock that went
+    /// back before the first reading still counts on from where it went.
+    read_ms: Option<i64>,
     /// Counts the changes made to the core.
     revision: u64,
     /// A change the streams show came since the last publication (or there was none yet).
@@ -198,7 +200,7 @@ impl Engine {
             host: Host::new(state, rtc),
             options,
             origin_ns: None,
-            read_ms: 0,
+            read_ms: None,
             revision: 0,
             unpublished: true,
             next_publication_ms: 0,
@@ -249,14 +251,14 @@ impl Engine {
         u64::try_from(now.reading_ns.saturating_sub(origin) / 1_000_000).unwrap_or(0)
     }
 
-    /// The latest reading the core was told of, as a [`Now`] whose stamp is `stamp`: handling a
+    /// The reading the core was last told of, as a [`Now`] whose stamp is `stamp`: handling a
     /// request at this time tells the core no time.
     #[must_use]
     pub fn told(&self, stamp: Time) -> Now {
-        let told_ns = i64::try_from(self.read_ms)
-            .unwrap_or(i64::MAX)
-            .saturating_mul(1_000_000);
-        Now::new(self.origin_ns.unwrap_or(0).saturating_add(told_ns), stamp)
+        let told_ns = self.read_ms.map_or(self.origin_ns.unwrap_or(0), |read_ms| {
+            read_ms.saturating_mul(1_000_000)
+        });
+        Now::new(told_ns, stamp)
     }
 
     /// Counts a change of the core, `shown` if it changed what the streams show.
@@ -269,14 +271,20 @@ impl Engine {
         }
     }
 
-    /// Tells the core the time `now`: the core's `Tick` for the step from the latest reading it
-    /// was told of, at most [`Options::max_step_ms`] (`[COOP-ENGINE-STEP.1]`); a reading before
-    /// it is no time passing. The transition if time passed.
+    /// Tells the core the time `now`: the core's `Tick` for the step from the reading it was
+    /// last told of, at most [`Options::max_step_ms`] (`[COOP-ENGINE-STEP.1]`). A reading before
+    /// that one is a clock that went back: no time passes, and the next step counts from it, so
+    /// that a replayed stretch of time ages scenes as it runs. The transition if time passed.
     fn catch_up(&mut self, now: Now) -> Option<Transition> {
-        let now_ms = self.engine_ms(now);
-        let step_ms = now_ms.saturating_sub(self.read_ms);
-        self.read_ms = self.read_ms.max(now_ms);
-        let counted_ms = step_ms.min(self.options.max_step_ms.max(1));
+        self.origin_ns.get_or_insert(now.reading_ns);
+        let now_ms = reading_ms(now);
+        let step_ms = self
+            .read_ms
+            .map_or(0, |read_ms| now_ms.saturating_sub(read_ms));
+        self.read_ms = Some(now_ms);
+        let counted_ms = u64::try_from(step_ms)
+            .unwrap_or(0)
+            .min(self.options.max_step_ms.max(1));
         match self
             .host
             .advance_to(self.host.told_ms().saturating_add(counted_ms))
@@ -393,14 +401,23 @@ impl Engine {
     }
 
     /// Milliseconds from `now` until the host should call again: a publication is due, or the
-    /// step from the latest reading the core was told of reaches [`Options::max_step_ms`], after
+    /// step from the reading the core was last told of reaches [`Options::max_step_ms`], after
     /// which time the host's clock runs would no longer all count (`[COOP-ENGINE-STEP.1]`).
     #[must_use]
     pub fn until_timeout_ms(&self, now: Now) -> u64 {
-        let step_ends_ms = self
-            .read_ms
-            .saturating_add(self.options.max_step_ms.max(1))
-            .saturating_sub(self.ms_at(now));
+        let max_step_ms = self.options.max_step_ms.max(1);
+        let step_ends_ms = self.read_ms.map_or(max_step_ms, |read_ms| {
+            let limit = i64::try_from(max_step_ms).unwrap_or(i64::MAX);
+            let left = read_ms
+                .saturating_add(limit)
+                .saturating_sub(reading_ms(now));
+            u64::try_from(left).unwrap_or(0)
+        });
         self.until_publication_ms(now).min(step_ends_ms)
     }
+}
+
+/// `now`'s reading in whole milliseconds.
+const fn reading_ms(now: Now) -> i64 {
+    now.reading_ns.div_euclid(1_000_000)
 }

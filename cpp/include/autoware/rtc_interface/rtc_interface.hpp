@@ -319,9 +319,11 @@ private:
     apply(commands);
   }
 
-  /// What the core answered `commands`, entry for entry; a refusal is logged.
+  /// What the core answered `commands`, made at the node clock's now (the core is told it
+  /// first, `[COOP-ENGINE-TIME.1]`), entry for entry; a refusal is logged.
   cooperation::rtc::Answered apply(const std::vector<CooperateCommand> & commands)
   {
+    tell_time();
     std::vector<cooperation::rtc::CommandIn> in;
     for (const auto & command : commands) {
       in.push_back(
@@ -392,6 +394,7 @@ private:
     const typename AutoMode::Request::SharedPtr request,
     const typename AutoMode::Response::SharedPtr response)
   {
+    tell_time();
     const auto result = core_.auto_mode(request->enable);
     response->success = result.ok;
     if (!result.ok) {

@@ -75,11 +75,11 @@ pub enum EngineFault {
     UndecidedAsUnknown,
     /// The factors are listed by identifier, not by distance.
     FactorsByIdentifier,
+    /// A steering factor's start and finish distances are swapped.
+    StartFinishSwapped,
     /// A step of the clock counts whole, however long (`[COOP-ENGINE-STEP.1]` not applied):
     /// with [`EngineBounds::jumps`], a scene reported just before a jump retires in it.
     StepUncapped,
-    /// A steering factor's start and finish distances are swapped.
-    StartFinishSwapped,
 }
 
 impl EngineFault {
