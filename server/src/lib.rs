@@ -136,9 +136,7 @@ impl Options {
 /// periodic publications and the clock.
 ///
 /// # Errors
-/// [`std::io::ErrorKind::InvalidInput`] with [`Options::problem`], or for a tick interval not
-/// shorter than the node's engine's step limit (`Options::max_step_ms` of the engine); the
-/// listener's failure; an
+/// [`std::io::ErrorKind::InvalidInput`] with [`Options::problem`]; the listener's failure; an
 /// error if the publishing or the clock's task stops, which would leave the streams or the
 /// expiry silently stopped.
 pub async fn serve(
@@ -151,17 +149,6 @@ pub async fn serve(
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             problem,
-        ));
-    }
-    let max_step_ms = node.shared().read(|engine| engine.options().max_step_ms);
-    if options.tick_every >= Duration::from_millis(max_step_ms) {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!(
-                "the tick interval ({:?}) is not shorter than the engine's step limit \
-                 ({max_step_ms} ms): the clock's time between two late ticks would not all count",
-                options.tick_every
-            ),
         ));
     }
     let every_ms = u64::try_from(options.publish_every.as_millis()).unwrap_or(u64::MAX);
@@ -354,13 +341,12 @@ async fn publish(node: Arc<Node>) {
     }
 }
 
-/// Ticks the core from the node's monotonic clock.
+/// Ticks the core from the node's monotonic clock: every `every`, and sooner when the engine's
+/// step limit would otherwise leave time uncounted (`[COOP-ENGINE-STEP.1]`).
 async fn tick(node: Arc<Node>, every: Duration) {
-    let mut interval = tokio::time::interval(every);
-    interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     loop {
-        interval.tick().await;
         blocking(&node, Node::tick).await;
+        tokio::time::sleep(every.min(node.until_step_limit())).await;
     }
 }
 

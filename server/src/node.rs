@@ -221,6 +221,15 @@ impl Node {
         }
     }
 
+    /// How long until the engine wants the time told, at the latest (its step limit,
+    /// `[COOP-ENGINE-STEP.1]`).
+    #[must_use]
+    pub fn until_step_limit(&self) -> std::time::Duration {
+        let now = self.clock.now();
+        let ms = self.shared.read(|engine| engine.until_step_limit_ms(now));
+        std::time::Duration::from_millis(ms)
+    }
+
     /// How long until the engine's next periodic publication.
     #[must_use]
     pub fn until_publication(&self) -> std::time::Duration {

@@ -427,19 +427,4 @@ async fn options_that_cannot_run_a_node_are_refused() {
         assert_eq!(error.to_string(), problem);
     }
     assert_eq!(Options::default().problem(), None);
-    // A tick interval the engine's step limit might not count whole is refused too.
-    let config = cooperation_adapters::settings::parse(common::SETTINGS).expect("settings");
-    let node = std::sync::Arc::new(cooperation_server::Node::new(config).expect("a node"));
-    let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
-        .await
-        .expect("a port");
-    let slow = Options {
-        tick_every: std::time::Duration::from_millis(cooperation_adapters::engine::MAX_STEP_MS),
-        ..Options::default()
-    };
-    let error = cooperation_server::serve(listener, node, slow, async {})
-        .await
-        .expect_err("refused");
-    assert_eq!(error.kind(), std::io::ErrorKind::InvalidInput);
-    assert!(error.to_string().contains("step limit"), "{error}");
 }

@@ -405,15 +405,23 @@ impl Engine {
     /// which time the host's clock runs would no longer all count (`[COOP-ENGINE-STEP.1]`).
     #[must_use]
     pub fn until_timeout_ms(&self, now: Now) -> u64 {
+        self.until_publication_ms(now)
+            .min(self.until_step_limit_ms(now))
+    }
+
+    /// Milliseconds from `now` until the step from the reading the core was last told of
+    /// reaches [`Options::max_step_ms`]: the latest a host tells the time for all of it to count
+    /// (`[COOP-ENGINE-STEP.1]`).
+    #[must_use]
+    pub fn until_step_limit_ms(&self, now: Now) -> u64 {
         let max_step_ms = self.options.max_step_ms.max(1);
-        let step_ends_ms = self.read_ms.map_or(max_step_ms, |read_ms| {
+        self.read_ms.map_or(max_step_ms, |read_ms| {
             let limit = i64::try_from(max_step_ms).unwrap_or(i64::MAX);
             let left = read_ms
                 .saturating_add(limit)
                 .saturating_sub(reading_ms(now));
             u64::try_from(left).unwrap_or(0)
-        });
-        self.until_publication_ms(now).min(step_ends_ms)
+        })
     }
 }
 

@@ -13,9 +13,11 @@
 //! history annotation), what the last publication carried, and the core's own transition
 //! ([`State::apply`]) for what an operator's call should have answered at its time.
 
+mod config;
 mod properties;
 mod written;
 
+pub use config::{EngineBounds, EngineFault, JUMP_STEP_MS};
 pub use properties::{properties, ANSWER, HINTED, LIFETIME, MESSAGES, PUBLISH, STEP, TIME};
 pub use written::written;
 
@@ -56,70 +58,6 @@ const FINISH: f32 = 50.0;
 pub const TTL_MS: u64 = 1;
 /// The interval of periodic publications, in milliseconds.
 pub const PUBLISH_EVERY_MS: u64 = 2;
-
-/// A deliberately wrong engine, for showing that the properties can fail. Each wraps the
-/// engine's calls the way a bug in it would behave; nothing of it is compiled into the library.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-pub enum EngineFault {
-    /// An operator's call is answered at the time the core was last told, not the request's
-    /// (the rosbridge node's call before the engine).
-    CallWithoutCatchUp,
-    /// A module's sync is answered at the time the core was last told: its scene's time to live
-    /// starts in the past.
-    ReportWithoutCatchUp,
-    /// A change's publication is taken and never sent: the engine counts it as shown.
-    ChangeUnpublished,
-    /// A call that changes what the streams show does not say so (no publication asked).
-    ChangeUnhinted,
-    /// An undecided operator decision is written as `UNKNOWN` (0), not `UNDECIDED`.
-    UndecidedAsUnknown,
-    /// The factors are listed by identifier, not by distance.
-    FactorsByIdentifier,
-    /// A steering factor's start and finish distances are swapped.
-    StartFinishSwapped,
-    /// A step of the clock counts whole, however long (`[COOP-ENGINE-STEP.1]` not applied):
-    /// with [`EngineBounds::jumps`], a scene reported just before a jump retires in it.
-    StepUncapped,
-}
-
-impl EngineFault {
-    /// Every fault.
-    pub const ALL: [Self; 8] = [
-        Self::CallWithoutCatchUp,
-        Self::ReportWithoutCatchUp,
-        Self::ChangeUnpublished,
-        Self::ChangeUnhinted,
-        Self::UndecidedAsUnknown,
-        Self::FactorsByIdentifier,
-        Self::StartFinishSwapped,
-        Self::StepUncapped,
-    ];
-}
-
-/// The size of the engine model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct EngineBounds {
-    /// Scene identifiers, `1..=scenes`.
-    pub scenes: usize,
-    /// The clock's last reading, in milliseconds from 0.
-    pub horizon_ms: u64,
-    /// Reports start at each of [`DISTANCES`] (else all at one distance), and nothing is
-    /// published: the configuration that checks the messages' order and fields.
-    #[serde(default)]
-    pub geometry: bool,
-    /// The scenes are an intersection's (velocity factors), not a lane change's (steering).
-    #[serde(default)]
-    pub velocity: bool,
-    /// The clock jumps: a step of the clock counts at most 1 ms ([`JUMP_STEP_MS`]), so every
-    /// step of 2 ms or more is a jump (`[COOP-ENGINE-STEP.1]`); otherwise the engine's default
-    /// limit, which no step of the model reaches.
-    #[serde(default)]
-    pub jumps: bool,
-}
-
-/// The step limit with [`EngineBounds::jumps`], in milliseconds: the time to live, so that a
-/// scene reported at the reading the core was last told of outlives any one step.
-pub const JUMP_STEP_MS: u64 = TTL_MS;
 
 /// An action of the engine model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -1,0 +1,72 @@
+//! The engine model's configuration: its bounds, and the faults planted in the engine to show
+//! that the properties can fail.
+
+use serde::{Deserialize, Serialize};
+
+#[cfg(doc)]
+use super::DISTANCES;
+use super::TTL_MS;
+
+/// A deliberately wrong engine, for showing that the properties can fail. Each wraps the
+/// engine's calls the way a bug in it would behave; nothing of it is compiled into the library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum EngineFault {
+    /// An operator's call is answered at the time the core was last told, not the request's
+    /// (the rosbridge node's call before the engine).
+    CallWithoutCatchUp,
+    /// A module's sync is answered at the time the core was last told: its scene's time to live
+    /// starts in the past.
+    ReportWithoutCatchUp,
+    /// A change's publication is taken and never sent: the engine counts it as shown.
+    ChangeUnpublished,
+    /// A call that changes what the streams show does not say so (no publication asked).
+    ChangeUnhinted,
+    /// An undecided operator decision is written as `UNKNOWN` (0), not `UNDECIDED`.
+    UndecidedAsUnknown,
+    /// The factors are listed by identifier, not by distance.
+    FactorsByIdentifier,
+    /// A steering factor's start and finish distances are swapped.
+    StartFinishSwapped,
+    /// A step of the clock counts whole, however long (`[COOP-ENGINE-STEP.1]` not applied):
+    /// with [`EngineBounds::jumps`], a scene reported just before a jump retires in it.
+    StepUncapped,
+}
+
+impl EngineFault {
+    /// Every fault.
+    pub const ALL: [Self; 8] = [
+        Self::CallWithoutCatchUp,
+        Self::ReportWithoutCatchUp,
+        Self::ChangeUnpublished,
+        Self::ChangeUnhinted,
+        Self::UndecidedAsUnknown,
+        Self::FactorsByIdentifier,
+        Self::StartFinishSwapped,
+        Self::StepUncapped,
+    ];
+}
+
+/// The size of the engine model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EngineBounds {
+    /// Scene identifiers, `1..=scenes`.
+    pub scenes: usize,
+    /// The clock's last reading, in milliseconds from 0.
+    pub horizon_ms: u64,
+    /// Reports start at each of [`DISTANCES`] (else all at one distance), and nothing is
+    /// published: the configuration that checks the messages' order and fields.
+    #[serde(default)]
+    pub geometry: bool,
+    /// The scenes are an intersection's (velocity factors), not a lane change's (steering).
+    #[serde(default)]
+    pub velocity: bool,
+    /// The clock jumps: a step of the clock counts at most 1 ms ([`JUMP_STEP_MS`]), so every
+    /// step of 2 ms or more is a jump (`[COOP-ENGINE-STEP.1]`); otherwise the engine's default
+    /// limit, which no step of the model reaches.
+    #[serde(default)]
+    pub jumps: bool,
+}
+
+/// The step limit with [`EngineBounds::jumps`], in milliseconds: the time to live, so that a
+/// scene reported at the reading the core was last told of outlives any one step.
+pub const JUMP_STEP_MS: u64 = TTL_MS;
