@@ -5,10 +5,8 @@
 //! after three and the crowd's tables grow past their small form, so that taking a sequence
 //! back restores forgotten identifiers and hashed tables too.
 
-mod common;
-
-use common::inputs::*;
-use common::*;
+use crate::common::inputs::*;
+use crate::common::*;
 use cooperation::*;
 use proptest::prelude::*;
 

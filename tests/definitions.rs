@@ -1,11 +1,8 @@
 //! One test per definition of spec §6, named after its tag.
 
-mod common;
-mod spec_tables;
-
-use common::*;
+use crate::common::*;
+use crate::spec_tables::*;
 use cooperation::*;
-use spec_tables::*;
 
 /// `[COOP-RETIRE.1]`: the retired set keeps the newest `retired_capacity` identifiers; a
 /// forgotten identifier is unknown again.

@@ -3,9 +3,7 @@
 //! code. Each case lists every rule whose *When* holds for it; the expected rule is the first
 //! of those in the spec's order.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use cooperation::*;
 
 /// §5.1, in the order its rules are listed.

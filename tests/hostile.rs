@@ -3,10 +3,8 @@
 //! number for), and arithmetic on limits at their extremes. Each test names the class of input
 //! it refuses or survives. The adapters' forms are `adapters/tests/hostile.rs`.
 
-mod common;
-
-use common::forms::refuses_unknown_and_repeated_fields;
-use common::*;
+use crate::common::forms::refuses_unknown_and_repeated_fields;
+use crate::common::*;
 use cooperation::*;
 use proptest::prelude::*;
 use serde_json::{json, Value};

@@ -2,9 +2,7 @@
 //! (built through the serialized form, the only way past `apply`) is refused by
 //! `check_invariants` with that invariant, and a reachable state near the bound passes.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use cooperation::*;
 use serde_json::{json, Value};
 

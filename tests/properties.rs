@@ -1,12 +1,10 @@
 //! Property tests: random input sequences over a small universe of identifiers and modules,
 //! checking after every step what must hold whatever the inputs.
 
-mod common;
-
 use std::collections::BTreeMap;
 
-use common::inputs::*;
-use common::*;
+use crate::common::inputs::*;
+use crate::common::*;
 use cooperation::*;
 use proptest::prelude::*;
 

@@ -1,8 +1,6 @@
 //! One test per rule of spec §5, named after the rule's tag.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use cooperation::*;
 
 /// `[COOP-REG-NEW.1]`: a new scene is live, waiting, undecided, age 0.

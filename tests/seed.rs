@@ -1,11 +1,8 @@
 //! The design page's example table (as quoted in the spec) and its 11-step sequence.
 
-mod common;
-mod spec_tables;
-
-use common::*;
+use crate::common::*;
+use crate::spec_tables::*;
 use cooperation::*;
-use spec_tables::*;
 
 /// The design page's lane-change example table, read from spec §6.2, holds for every value
 /// each `-` stands for.

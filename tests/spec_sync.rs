@@ -1,11 +1,9 @@
 //! Keeps `spec/cooperation.md`, the code and the tests in lockstep, mechanically.
 
-mod spec_tables;
-
 use std::collections::{BTreeMap, BTreeSet};
 
+use crate::spec_tables::*;
 use cooperation::{merge, Decision, Invariant, Limits, OperatorDecision, Phase, Policy, Rule};
-use spec_tables::*;
 
 /// The tags the spec defines in section `number` (`## {number}.`); a tag defined twice fails.
 fn section_tags(spec: &str, number: u32) -> BTreeSet<String> {

@@ -1,9 +1,7 @@
 //! The AD API calls of spec §6.6 over the core (`cooperation_adapters::wire`): each call's response
 //! status, whether it changed the state, and the typed read–answer–write path a server takes.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use cooperation::*;
 use cooperation_adapters::wire::{self, Request, Response, ResponseStatus, Service};
 use cooperation_adapters::Host;

@@ -1,9 +1,7 @@
 //! One test per deviation from Autoware's `rtc_interface` (spec §9), named after its tag.
 //! Each shows the upstream quirk's trigger and this library's behaviour.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use cooperation::*;
 use cooperation_adapters::rtc;
 

@@ -2,10 +2,8 @@
 //! repeated fields), the RTC adapter's arithmetic at its extremes, and the one base64 reader
 //! both message families share. Each test names the class of input it refuses or survives.
 
-mod common;
-
-use common::forms::refuses_unknown_and_repeated_fields;
-use common::*;
+use crate::common::forms::refuses_unknown_and_repeated_fields;
+use crate::common::*;
 use cooperation::*;
 use cooperation_adapters::rtc::{self, Rtc};
 use cooperation_adapters::Time;

@@ -9,9 +9,6 @@ use cooperation_models::check::run::{check, Report, Settings, Strategy};
 use cooperation_models::{Bounds, SequentialModel};
 use stateright::{Model, Representative};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// Breadth first with symmetry on: canonical states.
 const CANONICAL: Settings = Settings {
     threads: 2,

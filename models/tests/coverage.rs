@@ -16,9 +16,6 @@ use cooperation_models::check::coverage::{explore, named, Found, Pairs, Progress
 use cooperation_models::check::run::{check, Settings, Strategy};
 use cooperation_models::{Bounds, Fault, SequentialModel};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn measure(model: &SequentialModel, symmetry: bool, threads: usize) -> Found {
     let found = explore(model, symmetry, threads, &Progress::default(), &Halt::new())
         .expect("the search runs");

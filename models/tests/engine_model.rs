@@ -5,9 +5,6 @@
 use cooperation_models::check::{failing, pins};
 use cooperation_models::model::engine::{self, EngineBounds, EngineFault, EngineModel};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// Two identifiers of one lane-change module, the clock to 3 ms (a time to live of 1 ms,
 /// publications every 2 ms).
 fn model() -> EngineModel {

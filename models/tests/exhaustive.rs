@@ -15,9 +15,6 @@ use cooperation_models::check::run::{
 };
 use cooperation_models::{Bounds, NetBounds, NetworkModel, SequentialModel, Views};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn run(bounds: Bounds, threads: usize, strategy: Strategy, symmetry: bool) -> Report {
     let model = SequentialModel::new(bounds).expect("valid bounds");
     passes(

@@ -7,9 +7,6 @@ use cooperation_models::check::run::{check, shortest, Settings, Strategy};
 use cooperation_models::model::network::{reported, NetAction};
 use cooperation_models::{Bounds, Fault, NetBounds, NetworkModel, SequentialModel, Trace, Views};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// The sequential model's property each fault must break, and the bounds that can show it.
 fn expected(fault: Fault) -> (&'static str, Bounds) {
     let small = Bounds::new(2, 2);

@@ -8,9 +8,6 @@ use cooperation_models::check::run::{check_for, Checkable, Report, Settings, Sto
 use cooperation_models::{Bounds, NetBounds, NetworkModel, RtcBounds, RtcModel, SequentialModel};
 use stateright::Expectation;
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 const SETTINGS: Settings = Settings {
     threads: 1,
     strategy: Strategy::Dfs,

@@ -11,9 +11,6 @@ use cooperation_models::check::run::{check_for, Report, Settings, Stop, Strategy
 use cooperation_models::{Bounds, Fault, SequentialModel, Step};
 use stateright::{Checker, Model, Path};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn settings(symmetry: bool) -> Settings {
     Settings {
         threads: 1,

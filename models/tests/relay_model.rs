@@ -5,9 +5,6 @@
 use cooperation_models::check::{failing, pins};
 use cooperation_models::model::relay::{self, RelayBounds, RelayFault, RelayModel};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn model(bounds: RelayBounds) -> RelayModel {
     RelayModel::new(bounds).expect("valid bounds")
 }

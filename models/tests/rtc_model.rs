@@ -11,9 +11,6 @@ use cooperation_models::model::rtc::AVOIDANCE;
 use cooperation_models::{RtcBounds, RtcFault, RtcModel, Trace};
 use stateright::Expectation;
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn run(bounds: RtcBounds, threads: usize, strategy: Strategy, symmetry: bool) -> Report {
     let model = RtcModel::new(bounds).expect("valid bounds");
     let settings = Settings {

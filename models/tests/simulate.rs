@@ -7,9 +7,6 @@ use cooperation::Rule;
 use cooperation_models::check::simulate::{run, Findings, Progress, Swarm};
 use cooperation_models::{Bounds, Fault, SequentialModel};
 
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// Inputs per walk.
 const DEPTH: usize = 10_000;
 

@@ -3,9 +3,7 @@
 //! page or an allowed origin, and no page may frame the panel. Raw HTTP over loopback, so that
 //! every header is the test's choice.
 
-mod common;
-
-use common::{serve, WAIT};
+use crate::common::{serve, WAIT};
 use cooperation_server::{Access, Options};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;

@@ -2,9 +2,7 @@
 //! only a client that presents one, lets each do what its role may, and keeps each
 //! credential's places for it.
 
-mod common;
-
-use common::{serve, status, Client};
+use crate::common::{serve, status, Client};
 use cooperation_server::{Credentials, Options};
 use serde_json::json;
 

@@ -2,11 +2,11 @@
 //! mid-call, subscribers too slow for the stream, and the promise that the publication after
 //! an accepted command shows it.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 
-use common::{operator_decision, serve, status, Client, WAIT};
+use crate::common::{operator_decision, serve, status, Client, WAIT};
 use cooperation_server::{Limits, Options};
 use serde_json::json;
 

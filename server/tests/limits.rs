@@ -2,11 +2,11 @@
 //! never finish their request, connections per address, idle WebSockets, unfinished fragmented
 //! messages, scenes per RTC interface, and publications that show no change.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 
-use common::{serve, serve_quota, status, Client, WAIT};
+use crate::common::{serve, serve_quota, status, Client, WAIT};
 use cooperation_server::{Admission, Limits, Options};
 use futures_util::{SinkExt, StreamExt};
 use serde_json::json;

@@ -2,11 +2,9 @@
 //! modules keep 500 scenes live, each updated at 10 Hz. Every call is answered, every batch
 //! is applied, and each operator sees its command in the first publication after the answer.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::{operator_decision, serve, status, Client};
+use crate::common::{operator_decision, serve, status, Client};
 use cooperation_server::Options;
 
 /// Five velocity interfaces with 100 scenes each.

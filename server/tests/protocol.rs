@@ -1,9 +1,9 @@
 //! The rosbridge protocol as `docs/server.md` states it: the services, the topics, and a
 //! `status` error naming the problem for every bad request, after which the connection goes on.
 
-mod common;
+use crate::common;
 
-use common::{serve, status, Client};
+use crate::common::{serve, status, Client};
 use cooperation_server::{Limits, Options};
 use futures_util::SinkExt;
 use serde_json::{json, Value};

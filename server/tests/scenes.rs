@@ -2,11 +2,9 @@
 //! for an operator, the policy that applies and its age, as the core has them; and the
 //! planning modules' sync, which reads only the status fields a module owns.
 
-mod common;
-
 use std::time::Duration;
 
-use common::{serve, status, uuid, Client};
+use crate::common::{serve, status, uuid, Client};
 use cooperation_server::Options;
 use serde_json::{json, Value};
 

@@ -2,11 +2,9 @@
 //! `throttle_rate` and `queue_length`, what the node does not support refused with a status,
 //! each publication sent at most once per connection, and `rosapi`'s lookups.
 
-mod common;
-
 use std::time::Duration;
 
-use common::{serve, Client};
+use crate::common::{serve, Client};
 use cooperation_server::Options;
 use serde_json::{json, Value};
 

@@ -1,11 +1,9 @@
 //! The node's time through the rosbridge door (`[COOP-ENGINE-TIME.1]`): every call is answered
 //! at its own time, whenever the node's periodic tick comes.
 
-mod common;
-
 use std::time::Duration;
 
-use common::*;
+use crate::common::*;
 use cooperation_server::Options;
 use serde_json::json;
 

@@ -4,8 +4,8 @@
 
 use std::cell::Cell;
 
+use super::Fixture;
 use crate::common::*;
-use crate::Fixture;
 use cooperation::*;
 use cooperation_adapters::rtc;
 use proptest::prelude::*;

@@ -4,9 +4,6 @@
 //! One binary with a module per concern, over one fixture: the standard bindings and a state
 //! configured from them.
 
-#[path = "../common/mod.rs"]
-mod common;
-
 mod auto_mode;
 mod checks;
 mod commands;
@@ -16,7 +13,7 @@ mod sequences;
 mod statuses;
 mod upstream;
 
-use common::*;
+use crate::common::*;
 use cooperation::*;
 use cooperation_adapters::rtc::{self, Rtc};
 

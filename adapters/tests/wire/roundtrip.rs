@@ -2,8 +2,8 @@
 //! and back are exact where both sides can hold the value; the handlers answer every request,
 //! well-formed or not, as the core would, and never panic on any bytes.
 
-use crate::strategies::*;
-use crate::wire_fixtures::*;
+use super::strategies::*;
+use super::wire_fixtures::*;
 use cooperation::*;
 use cooperation_adapters::wire::{self, Malformed, Service};
 use proptest::prelude::*;
