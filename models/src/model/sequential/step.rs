@@ -191,9 +191,12 @@ type Signature<'a> = (
     Option<usize>,
 );
 
-/// Every identifier's index, sorted by whether nothing is known of it, then by its signature,
-/// then by the index itself: the new name of the identifier at position `p` is `p + 1`.
-type Signed<'a> = [((bool, Signature<'a>), usize); MAX_SCENES];
+/// Every identifier's index up to the last one anything is known of, sorted by whether nothing
+/// is known of it, then by its signature, then by the index itself: the new name of the
+/// identifier at position `p` is `p + 1`. The identifiers after them keep their names. (Only
+/// that prefix is built: the whole array of `MAX_SCENES` signatures, built and moved for every
+/// renaming, was the largest part of the check's time.)
+type Signed<'a> = Vec<((bool, Signature<'a>), usize)>;
 
 /// A renaming of identifiers: identifier `i + 1` becomes identifier `names[i] + 1`.
 pub type Names = [usize; MAX_SCENES];
@@ -224,25 +227,21 @@ impl Step {
             .filter_map(index)
             .map(|i| i + 1)
             .fold(self.ghost.known(), usize::max);
-        let mut signed: Signed<'_> = core::array::from_fn(|i| {
-            let id = SceneId::from_u128(i as u128 + 1);
-            let signature = if i < known {
-                (
+        let mut signed: Signed<'_> = (0..known.min(MAX_SCENES))
+            .map(|i| {
+                let id = SceneId::from_u128(i as u128 + 1);
+                let signature = (
                     core.scene(id),
                     core.retirement(id),
                     self.ghost.owner(id),
                     self.ghost.was_retired(id),
                     position(id),
-                )
-            } else {
-                (None, None, None, false, None)
-            };
-            let unknown = signature == (None, None, None, false, None);
-            ((unknown, signature), i)
-        });
-        if let Some(prefix) = signed.get_mut(..known) {
-            prefix.sort_unstable();
-        }
+                );
+                let unknown = signature == (None, None, None, false, None);
+                ((unknown, signature), i)
+            })
+            .collect();
+        signed.sort_unstable();
         signed
     }
 
