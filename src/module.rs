@@ -132,6 +132,14 @@ impl Behavior {
         }
     }
 
+    /// The string's bytes, which module order compares.
+    fn name_bytes(&self) -> &[u8] {
+        match self {
+            Self::Extension(extension) => extension.as_bytes(),
+            builtin => builtin.builtin_str().unwrap_or_default().as_bytes(),
+        }
+    }
+
     /// A built-in behaviour's place in [`Behavior::ALL`]; `None` for an extension.
     pub(crate) const fn rank(self) -> Option<usize> {
         Some(match self {
@@ -283,6 +291,14 @@ impl Sequence {
         }
     }
 
+    /// The string's bytes, which module order compares.
+    fn name_bytes(&self) -> &[u8] {
+        match self {
+            Self::Extension(extension) => extension.as_bytes(),
+            builtin => builtin.builtin_str().unwrap_or_default().as_bytes(),
+        }
+    }
+
     /// A built-in sequence's place in [`Sequence::ALL`]; `None` for an extension.
     pub(crate) const fn rank(self) -> Option<usize> {
         match self {
@@ -310,12 +326,11 @@ impl Sequence {
 /// the other kind (a sequence named `avoidance` made a behaviour extension); of two such
 /// unequal values with one string, the built-in one comes first, so the order agrees with
 /// `Eq`.
-fn name_order(a: (Option<usize>, &str), b: (Option<usize>, &str)) -> Ordering {
+fn name_order(a: (Option<usize>, &[u8]), b: (Option<usize>, &[u8])) -> Ordering {
     match (a, b) {
         ((Some(a), _), (Some(b), _)) => a.cmp(&b),
         ((a_rank, a), (b_rank, b)) => a
-            .as_bytes()
-            .cmp(b.as_bytes())
+            .cmp(b)
             .then_with(|| a_rank.is_none().cmp(&b_rank.is_none())),
     }
 }
@@ -323,7 +338,10 @@ fn name_order(a: (Option<usize>, &str), b: (Option<usize>, &str)) -> Ordering {
 impl Ord for Behavior {
     /// Byte order of the behaviours' strings (`[COOP-POL-GET.2]`).
     fn cmp(&self, other: &Self) -> Ordering {
-        name_order((self.rank(), self.as_str()), (other.rank(), other.as_str()))
+        name_order(
+            (self.rank(), self.name_bytes()),
+            (other.rank(), other.name_bytes()),
+        )
     }
 }
 
@@ -336,7 +354,10 @@ impl PartialOrd for Behavior {
 impl Ord for Sequence {
     /// Byte order of the sequences' strings (`[COOP-POL-GET.2]`).
     fn cmp(&self, other: &Self) -> Ordering {
-        name_order((self.rank(), self.as_str()), (other.rank(), other.as_str()))
+        name_order(
+            (self.rank(), self.name_bytes()),
+            (other.rank(), other.name_bytes()),
+        )
     }
 }
 

@@ -82,16 +82,18 @@ impl Extension {
     /// The name.
     #[must_use]
     pub fn as_str(&self) -> &str {
+        // Only ASCII is ever stored.
+        core::str::from_utf8(self.as_bytes()).unwrap_or_default()
+    }
+
+    /// The name's bytes: what module order compares, without checking them again as text.
+    pub(crate) fn as_bytes(&self) -> &[u8] {
         let bytes = self.words.as_flattened();
         let len = bytes
             .iter()
             .position(|&byte| byte == 0)
             .unwrap_or(Self::MAX_LEN);
-        // Only ASCII is ever stored.
-        bytes
-            .get(..len)
-            .and_then(|name| core::str::from_utf8(name).ok())
-            .unwrap_or_default()
+        bytes.get(..len).unwrap_or_default()
     }
 }
 

@@ -15,8 +15,14 @@ use crate::{Module, Policy};
 #[derive(Clone, PartialEq, Eq, Hash)]
 pub(super) struct Policies {
     builtin: [Option<Policy>; Module::COUNT],
+    /// Bit `i` is set when `builtin[i]` holds a policy: listing skips the empty slots, most of
+    /// them, without reading each.
+    configured: u64,
     extensions: Arc<Vec<(Module, Policy)>>,
 }
+
+// One bit of `configured` for each built-in module.
+const _: () = assert!(Module::COUNT <= u64::BITS as usize);
 
 impl Policies {
     /// The policy of `module`, if it supports cooperation.
@@ -51,12 +57,20 @@ impl Policies {
 
     /// Every module that supports cooperation and its policy, in module order.
     pub(super) fn iter(&self) -> impl Iterator<Item = (Module, Policy)> + '_ {
-        let mut builtin = self
-            .builtin
-            .iter()
-            .enumerate()
-            .filter_map(|(index, policy)| Some((Module::at_index(index)?, (*policy)?)))
-            .peekable();
+        let mut configured = self.configured;
+        let mut builtin = core::iter::from_fn(move || {
+            while configured != 0 {
+                let index = configured.trailing_zeros() as usize;
+                configured &= configured - 1;
+                if let (Some(module), Some(Some(policy))) =
+                    (Module::at_index(index), self.builtin.get(index))
+                {
+                    return Some((module, *policy));
+                }
+            }
+            None
+        })
+        .peekable();
         let mut extensions = self.extensions.iter().copied().peekable();
         core::iter::from_fn(move || match (builtin.peek(), extensions.peek()) {
             (Some(&(a, _)), Some(&(b, _))) if b < a => extensions.next(),
@@ -70,12 +84,14 @@ impl FromIterator<(Module, Policy)> for Policies {
     /// Of two policies for one module, the later one stays.
     fn from_iter<I: IntoIterator<Item = (Module, Policy)>>(policies: I) -> Self {
         let mut builtin = [None; Module::COUNT];
+        let mut configured = 0_u64;
         let mut extensions = Vec::new();
         for (module, policy) in policies {
             match module.index() {
                 Some(index) => {
                     if let Some(slot) = builtin.get_mut(index) {
                         *slot = Some(policy);
+                        configured |= 1 << index;
                     }
                 }
                 None => extensions.push((module, policy)),
@@ -88,6 +104,7 @@ impl FromIterator<(Module, Policy)> for Policies {
         extensions.reverse();
         Self {
             builtin,
+            configured,
             extensions: Arc::new(extensions),
         }
     }
