@@ -156,18 +156,18 @@ impl Broken {
 /// Which of the spec's statements the step from `from` by `input` to `core` broke: the rule the
 /// spec's *When* picks, if the library's outcome is not that rule's *Then*
 /// (`crate::model::spec::rules`), and the lifecycle table (§7) for an owner's update.
+/// `unchanged`: `core` equals `from`'s core.
 pub(super) fn against_spec(
     tables: &Tables,
     from: &Step,
     input: &Input,
-    result: &Result<Transition, Rejection>,
-    core: &State,
+    (result, core, unchanged): (&Result<Transition, Rejection>, &State, bool),
 ) -> Broken {
     let mut broken = Broken::default();
     let expected = verdict(&tables.lifecycle, from.snapshot(), input);
     broken.set(
         Broken::rule(expected.rule),
-        !expected.agrees(result, &from.core, core),
+        !expected.agrees(result, unchanged, core),
     );
     if let Input::Update {
         id,

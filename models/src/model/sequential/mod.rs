@@ -295,8 +295,10 @@ impl SequentialModel {
             Ok(transition) => transition.rule,
             Err(rejection) => rejection.rule(),
         };
-        let departures = against_spec(&self.tables, from, input, &result, &core);
-        if core == *from.core {
+        // Compared once: the spec's check of a rejection and the stall below both need it.
+        let unchanged = core == *from.core;
+        let departures = against_spec(&self.tables, from, input, (&result, &core, unchanged));
+        if unchanged {
             // Nothing changed; only a departure from the spec is news.
             let mut ghost = from.ghost;
             ghost.broken = ghost.broken.and(departures);

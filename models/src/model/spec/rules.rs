@@ -431,12 +431,13 @@ fn set_policies(before: &Snapshot, settings: &[PolicySetting]) -> Result<Verdict
 impl Verdict {
     /// Whether the library's result and the state it left agree with this verdict: the same
     /// rule; for an accepted input the same transition and the spec's next state; for a
-    /// rejection the same rejection and the state unchanged.
+    /// rejection the same rejection and the state unchanged (`unchanged`: the state after the
+    /// input equals the state before it, which the caller has compared once for all its uses).
     #[must_use]
     pub fn agrees(
         &self,
         result: &Result<cooperation::Transition, Rejection>,
-        before: &State,
+        unchanged: bool,
         after: &State,
     ) -> bool {
         let rule = match result {
@@ -448,7 +449,7 @@ impl Verdict {
                 (Ok((next, retired)), Ok(transition)) => {
                     transition.retired == *retired && next.matches(after)
                 }
-                (Err(expected), Err(rejection)) => rejection == expected && after == before,
+                (Err(expected), Err(rejection)) => rejection == expected && unchanged,
                 _ => false,
             }
     }
