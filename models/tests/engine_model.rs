@@ -86,6 +86,10 @@ fn each_property_fails_on_its_planted_fault() {
         (EngineFault::ReportWithoutCatchUp, engine::LIFETIME),
         (EngineFault::ChangeUnpublished, engine::PUBLISH),
         (EngineFault::ChangeUnhinted, engine::HINTED),
+        (EngineFault::RefusalAsUnknown, engine::ANSWER),
+        (EngineFault::PolicyConstantsSwapped, engine::POLICIES),
+        (EngineFault::PoliciesReversed, engine::POLICIES),
+        (EngineFault::ScenesShowModuleDecision, engine::SCENES),
     ] {
         let (failing, _) = failing(model().with_fault(fault).focus(property));
         assert_eq!(failing, vec![property], "{fault:?}");

@@ -30,11 +30,19 @@ pub enum EngineFault {
     /// A step of the clock counts whole, however long (`[COOP-ENGINE-STEP.1]` not applied):
     /// with [`EngineBounds::jumps`], a scene reported just before a jump retires in it.
     StepUncapped,
+    /// A refused call is answered with `UNKNOWN` (50000), not `PARAMETER_ERROR`.
+    RefusalAsUnknown,
+    /// `get_policies` writes `OPTIONAL` as `REQUIRED` and the reverse.
+    PolicyConstantsSwapped,
+    /// `get_policies` lists the modules in the reverse of their order.
+    PoliciesReversed,
+    /// `/cooperation/scenes` shows each scene's module decision as its merged decision.
+    ScenesShowModuleDecision,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 8] = [
+    pub const ALL: [Self; 12] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -43,6 +51,10 @@ impl EngineFault {
         Self::FactorsByIdentifier,
         Self::StartFinishSwapped,
         Self::StepUncapped,
+        Self::RefusalAsUnknown,
+        Self::PolicyConstantsSwapped,
+        Self::PoliciesReversed,
+        Self::ScenesShowModuleDecision,
     ];
 }
 

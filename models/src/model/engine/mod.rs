@@ -13,19 +13,22 @@
 //! history annotation), what the last publication carried, and the core's own transition
 //! ([`State::apply`]) for what an operator's call should have answered at its time.
 
+mod answers;
 mod config;
 mod properties;
 mod written;
 
 pub use config::{EngineBounds, EngineFault, JUMP_STEP_MS};
-pub use properties::{properties, ANSWER, HINTED, LIFETIME, MESSAGES, PUBLISH, STEP, TIME};
+pub use properties::{
+    properties, ANSWER, HINTED, LIFETIME, MESSAGES, POLICIES, PUBLISH, SCENES, STEP, TIME,
+};
 pub use written::written;
 
 use std::hash::{Hash, Hasher};
 
 use cooperation::{
     Behavior, Command, Config, Input, Limits, Module, OperatorDecision, Policy, PolicySetting,
-    SceneId, State,
+    Rejection, SceneId, State,
 };
 use cooperation_adapters::engine::{self, Engine, Now, Reply, Request};
 use cooperation_adapters::rtc::{self, CooperateStatus};
@@ -40,6 +43,9 @@ use stateright::{Model, Property, Representative};
 const STEERING: (Module, &str) = (Module::new(Behavior::LaneChange), "lane_change_left");
 /// The velocity module: an intersection, reported through `intersection`.
 const VELOCITY: (Module, &str) = (Module::new(Behavior::Intersection), "intersection");
+/// A module configured beside the two above, that no scene is reported for: `get_policies`
+/// lists three modules, one policy of each kind whichever the operator sets.
+const BYSTANDER: Module = Module::new(Behavior::Crosswalk);
 /// The distances a report's start takes with [`EngineBounds::geometry`]: those the order rule
 /// treats specially (`[COOP-OUT-ORDER.1]`: NaN of either sign, ±0, both infinities).
 pub const DISTANCES: [f32; 6] = [
@@ -195,20 +201,32 @@ pub struct EngineModel {
     ids: Vec<SceneId>,
     /// The module and the interface its scenes are reported through.
     reporter: (Module, &'static str),
+    /// The spec's merged-decision table, read from its text.
+    merge: spec::MergeTable,
 }
 
 impl EngineModel {
     /// The model at these bounds.
     ///
     /// # Errors
-    /// If `scenes` is not 1 to 4.
+    /// If `scenes` is not 1 to 4, or the spec's merge table does not read.
     pub fn new(bounds: EngineBounds) -> Result<Self, String> {
         if !(1..=4).contains(&bounds.scenes) {
             return Err("scenes must be 1 to 4".to_owned());
         }
-        let reporter = if bounds.velocity { VELOCITY } else { STEERING };
+        let merge = spec::MergeTable::from_spec(spec::SPEC).map_err(|e| e.to_string())?;
+        let (reporter, other) = if bounds.velocity {
+            (VELOCITY, STEERING)
+        } else {
+            (STEERING, VELOCITY)
+        };
         let config = Config {
-            policies: [(reporter.0, Policy::Required)].into(),
+            policies: [
+                (reporter.0, Policy::Required),
+                (other.0, Policy::Optional),
+                (BYSTANDER, Policy::Required),
+            ]
+            .into(),
             limits: Limits {
                 ttl_ms: TTL_MS,
                 max_scenes: bounds.scenes,
@@ -226,6 +244,7 @@ impl EngineModel {
             config,
             ids,
             reporter,
+            merge,
         })
     }
 
@@ -293,6 +312,12 @@ impl EngineModel {
     #[must_use]
     pub const fn config(&self) -> &Config {
         &self.config
+    }
+
+    /// The spec's merged-decision table.
+    #[must_use]
+    pub const fn merge(&self) -> &spec::MergeTable {
+        &self.merge
     }
 
     /// The step limit the engine is built with (unless a fault says otherwise).
@@ -363,15 +388,14 @@ fn report(interface: &str, id: SceneId, safe: bool, start: f32) -> SyncRequest {
 
 /// What the core's own transition answers to `input` at the request's time: the core of
 /// `before` told the time since it was last told (up to `core_ms`, the core's time at the
-/// request by the model's count), then given `input`. `None` if the core refuses it; the
-/// state it leaves otherwise.
-fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Option<State> {
+/// request by the model's count), then given `input`. The state it leaves, or the rejection.
+fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Result<State, Rejection> {
     let mut state = before.state().clone();
     let elapsed_ms = core_ms.saturating_sub(before.host().told_ms());
     if elapsed_ms > 0 {
-        state.apply(&Input::Tick { elapsed_ms }).ok()?;
+        state.apply(&Input::Tick { elapsed_ms })?;
     }
-    state.apply(input).ok().map(|_| state)
+    state.apply(input).map(|_| state)
 }
 
 impl Model for EngineModel {
@@ -541,8 +565,10 @@ impl Model for EngineModel {
 
 impl EngineModel {
     /// An operator's `request` (the core's `input`), made at `last`'s clock reading: answered
-    /// by the engine in `next`, its answer judged against the core's own transition at that
-    /// time. Whether it was answered success.
+    /// by the engine in `next`, and judged against the core's own transition at that time: the
+    /// status, field by field, is the one `[COOP-API-STATUS.1]` states for the transition's
+    /// result, and an applied call leaves the core the transition leaves. Whether it was
+    /// answered success.
     fn operator_call(
         &self,
         last: &EngineStep,
@@ -550,9 +576,21 @@ impl EngineModel {
         request: wire::Request,
         input: &Input,
     ) -> bool {
+        let len = match input {
+            Input::SetCommands { commands } => commands.len(),
+            Input::SetPolicies { policies } => policies.len(),
+            _ => 1,
+        };
         let reply = self.handle(next, Request::Ad(request), last.now());
         let expected = oracle(&last.engine, next.core_ms, input);
-        judge(next, &reply, expected.as_ref());
+        let status = spec::responses::batch_status(len, expected.as_ref().map(|_| ()));
+        let agrees = self.answered_status(&reply) == Some(status)
+            && expected
+                .as_ref()
+                .map_or(true, |state| next.engine.state() == state);
+        if !agrees {
+            next.broken |= broken::ANSWER;
+        }
         reply.success()
     }
 }
@@ -565,18 +603,6 @@ fn unhinted(next: &mut EngineStep, before: &State, change: engine::Change) {
         && content(next.engine.state()) != content(before)
     {
         next.broken |= broken::UNHINTED;
-    }
-}
-
-/// Flags an operator's call whose answer or resulting core differs from the core's own
-/// transition at the request's time.
-fn judge(next: &mut EngineStep, reply: &Reply, expected: Option<&State>) {
-    let agrees = match expected {
-        Some(state) => reply.success() && next.engine.state() == state,
-        None => !reply.success(),
-    };
-    if !agrees {
-        next.broken |= broken::ANSWER;
     }
 }
 

@@ -6,7 +6,7 @@ use cooperation::Phase;
 use stateright::Property;
 
 use super::{broken, content, EngineModel, EngineStep};
-use crate::model::spec::messages;
+use crate::model::spec::{messages, responses};
 
 /// `COOP-ENGINE-TIME.1`'s property.
 pub const TIME: &str =
@@ -25,6 +25,10 @@ pub const MESSAGES: &str = "COOP-OUT-STATUS.1, COOP-OUT-ORDER.1 (engine): the st
 /// the clock runs past the time to live.
 pub(super) const STALE_WITNESS: &str =
     "witness: a scene outlives its time to live on the clock before the core is told";
+/// The `get_policies` answer's property.
+pub const POLICIES: &str = "COOP-POL-GET.2, COOP-API-STATUS.1 (engine): get_policies answers success and every configured module's policy constant, in the spec's order";
+/// The scenes topic's property.
+pub const SCENES: &str = "COOP-MERGE.1, COOP-REQUESTED.1 (engine): /cooperation/scenes shows each live scene's merged decision, policy and wait for an operator as the spec states them, in identifier order";
 /// `COOP-ENGINE-PUBLISH.1`'s other property.
 pub const HINTED: &str = "COOP-ENGINE-PUBLISH.1: a call that changes what the streams show asks for a publication at once";
 /// `COOP-ENGINE-PUBLISH.1`'s property.
@@ -82,6 +86,16 @@ fn messages_are_the_spec(model: &EngineModel, state: &EngineStep) -> bool {
     model.messages(state) == messages::factors(state.engine.state(), model.steering())
 }
 
+/// `get_policies`, asked in this state, answers what the spec's oracle states for the core.
+fn policies_are_the_spec(model: &EngineModel, state: &EngineStep) -> bool {
+    model.policies_answer(state) == Some(responses::policies(state.engine.state()))
+}
+
+/// `/cooperation/scenes` shows what the spec's oracle states for the core, row by row.
+fn scenes_are_the_spec(model: &EngineModel, state: &EngineStep) -> bool {
+    model.scenes_shown(state) == responses::scenes(state.engine.state(), model.merge())
+}
+
 /// When the engine says no publication is due, what the streams last carried is what the core
 /// shows now: every change the streams show is followed by a publication that shows it.
 fn published_shows_state(_: &EngineModel, state: &EngineStep) -> bool {
@@ -125,6 +139,8 @@ pub fn properties() -> Vec<Property<EngineModel>> {
         Property::always(HINTED, unbroken::<{ broken::UNHINTED }>),
         Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
         Property::always(MESSAGES, messages_are_the_spec),
+        Property::always(POLICIES, policies_are_the_spec),
+        Property::always(SCENES, scenes_are_the_spec),
         Property::sometimes(STALE_WITNESS, stale_scene_awaits_tick),
         Property::sometimes(JUMP_WITNESS, scene_outlives_a_jump),
         Property::sometimes("witness: an operator's command applies", command_applied),

@@ -1,13 +1,14 @@
 //! The specification, as the model's properties state it: its tables read from
 //! `spec/cooperation.md` itself, and its rules (§5, §6.1) written out independently of the
-//! library (`rules`), and the AD API messages a state must be written as (`messages`), so that
-//! the properties say what the spec says rather than what the code does.
+//! library (`rules`), and the messages and answers a state must be written as (`messages`,
+//! `responses`), so that the properties say what the spec says rather than what the code does.
 
 use std::collections::BTreeMap;
 
 use cooperation::{Decision, OperatorDecision, Phase, Policy};
 
 pub mod messages;
+pub mod responses;
 pub mod rules;
 pub mod text;
 
