@@ -305,3 +305,27 @@ fn every_interface_at_its_quota_fits_the_table() {
         "every interface holds its quota, and the table has room left"
     );
 }
+
+/// Every host takes a publication rate the same way: above 0 and at most 1000 a second, the
+/// interval its inverse; any other rate is refused with the engine's reason.
+#[test]
+fn a_publication_rate_is_taken_once_for_every_host() {
+    use cooperation_adapters::engine::{publish_every, EngineError, MAX_PUBLICATION_RATE_HZ};
+    use std::time::Duration;
+    assert_eq!(publish_every(10.0), Ok(Duration::from_millis(100)));
+    assert_eq!(
+        publish_every(MAX_PUBLICATION_RATE_HZ),
+        Ok(Duration::from_millis(1))
+    );
+    assert_eq!(publish_every(0.5), Ok(Duration::from_secs(2)));
+    for refused in [0.0, -0.0, -1.0, 1000.5, f64::NAN, f64::INFINITY, 1e-20] {
+        let error = publish_every(refused).expect_err("refused");
+        assert_eq!(error, EngineError::PublicationRate(refused.to_string()));
+        assert!(
+            error
+                .to_string()
+                .ends_with("give a rate above 0 and at most 1000"),
+            "{error}"
+        );
+    }
+}

@@ -74,12 +74,8 @@ fn main() -> ExitCode {
 }
 
 fn run(args: Args) -> Result<(), String> {
-    if !(args.rate.is_finite() && args.rate > 0.0 && args.rate <= 1000.0) {
-        return Err(format!(
-            "--rate {}: give a rate above 0 and at most 1000",
-            args.rate
-        ));
-    }
+    let publish_every = cooperation_adapters::engine::publish_every(args.rate)
+        .map_err(|error| format!("--rate {}: {error}", args.rate))?;
     if !args.namespace.starts_with('/') {
         return Err(format!(
             "--namespace {}: a namespace starts with /",
@@ -93,7 +89,7 @@ fn run(args: Args) -> Result<(), String> {
         name: args.name,
         namespace: args.namespace,
         distro: args.distro,
-        publish_every: Duration::from_secs_f64(1.0 / args.rate),
+        publish_every,
         scene_quota: args.scene_quota,
     };
     let stop = Arc::new(AtomicBool::new(false));

@@ -4,7 +4,6 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::time::Duration;
 
 use clap::Parser;
 use cooperation_server::{Access, Credentials, Node, Options};
@@ -96,12 +95,8 @@ async fn main() -> ExitCode {
 }
 
 async fn run(args: Args) -> Result<(), String> {
-    if !(args.rate.is_finite() && args.rate > 0.0 && args.rate <= 1000.0) {
-        return Err(format!(
-            "--rate {}: give a rate above 0 and at most 1000",
-            args.rate
-        ));
-    }
+    let publish_every = cooperation_adapters::engine::publish_every(args.rate)
+        .map_err(|error| format!("--rate {}: {error}", args.rate))?;
     let config = cooperation_adapters::settings::load(args.settings.as_deref())?;
     let credentials = match &args.credentials {
         Some(path) => {
@@ -125,8 +120,6 @@ async fn run(args: Args) -> Result<(), String> {
     }
     let node =
         Node::with_scene_quota(config, args.scene_quota).map_err(|error| error.to_string())?;
-    let publish_every = Duration::try_from_secs_f64(1.0 / args.rate)
-        .map_err(|error| format!("--rate {}: {error}", args.rate))?;
     let options = Options {
         publish_every,
         max_clients: args.max_clients,

@@ -20,6 +20,9 @@ pub enum EngineError {
         /// The core's table (`max_scenes`).
         max_scenes: usize,
     },
+    /// A publication rate (publications a second, as written) that is not above 0 and at most
+    /// [`MAX_PUBLICATION_RATE_HZ`](super::MAX_PUBLICATION_RATE_HZ).
+    PublicationRate(String),
 }
 
 impl fmt::Display for EngineError {
@@ -38,6 +41,11 @@ impl fmt::Display for EngineError {
                  give a quota of at most {}, or more max_scenes",
                 quota.saturating_mul(*interfaces),
                 max_scenes / (*interfaces).max(1),
+            ),
+            Self::PublicationRate(rate) => write!(
+                f,
+                "a rate of {rate} publications a second: give a rate above 0 and at most {}",
+                super::MAX_PUBLICATION_RATE_HZ
             ),
         }
     }

@@ -55,6 +55,8 @@ use scenes::SceneArray;
 pub const PUBLISH_EVERY_MS: u64 = 100;
 /// The same interval as publications per second, as the nodes' `--rate` takes it.
 pub const PUBLICATION_RATE_HZ: f64 = 1000.0 / PUBLISH_EVERY_MS as f64;
+/// The most publications a second a host may ask for ([`publish_every`]).
+pub const MAX_PUBLICATION_RATE_HZ: f64 = 1000.0;
 /// The most one step of the host's clock counts unless a host says otherwise, in milliseconds
 /// (`[COOP-ENGINE-STEP.1]`).
 pub const MAX_STEP_MS: u64 = 1000;
@@ -423,6 +425,20 @@ impl Engine {
             u64::try_from(left).unwrap_or(0)
         })
     }
+}
+
+/// The interval of periodic publications for a rate of `rate_hz` publications a second (a
+/// node's `--rate`): every host takes a rate the same way.
+///
+/// # Errors
+/// [`EngineError::PublicationRate`] for a rate that is not above 0 and at most
+/// [`MAX_PUBLICATION_RATE_HZ`].
+pub fn publish_every(rate_hz: f64) -> Result<std::time::Duration, EngineError> {
+    let refused = || EngineError::PublicationRate(rate_hz.to_string());
+    if !(rate_hz.is_finite() && rate_hz > 0.0 && rate_hz <= MAX_PUBLICATION_RATE_HZ) {
+        return Err(refused());
+    }
+    std::time::Duration::try_from_secs_f64(1.0 / rate_hz).map_err(|_| refused())
 }
 
 /// `now`'s reading in whole milliseconds.
