@@ -176,6 +176,15 @@ fn coop_engine_publish_1() {
     assert_eq!(engine.until_publication_ms(at(4)), every);
     assert!(engine.poll_publication(at(3 + every)).is_none());
     assert!(engine.poll_publication(at(4 + every)).is_some());
+
+    // A clock that went back (a bag played again): a publication is due at once, with the
+    // earlier stamp, and the interval counts on from that reading, not from the later one.
+    let later = 10 * every;
+    assert!(engine.poll_publication(at(later)).is_some());
+    assert_eq!(engine.until_publication_ms(at(later - 1)), 0);
+    assert!(engine.poll_publication(at(later - 5 * every)).is_some());
+    assert!(engine.poll_publication(at(later - 5 * every + 1)).is_none());
+    assert!(engine.poll_publication(at(later - 4 * every)).is_some());
 }
 
 /// `[COOP-ENGINE-ANSWER.1]`: an operator's call is answered as the core's transition answers

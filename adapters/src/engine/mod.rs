@@ -164,8 +164,10 @@ pub struct Engine {
     revision: u64,
     /// A change the streams show came since the last publication (or there was none yet).
     unpublished: bool,
-    /// The engine time at which a periodic publication is due, in milliseconds.
-    next_publication_ms: u64,
+    /// The reading of the last publication, in milliseconds of the host's clock (`None` before
+    /// the first): the next periodic one is due an interval later, or at once if the clock
+    /// goes back before it.
+    published_ms: Option<i64>,
 }
 
 impl Engine {
@@ -205,7 +207,7 @@ impl Engine {
             read_ms: None,
             revision: 0,
             unpublished: true,
-            next_publication_ms: 0,
+            published_ms: None,
         })
     }
 
@@ -237,20 +239,6 @@ impl Engine {
     #[must_use]
     pub const fn revision(&self) -> u64 {
         self.revision
-    }
-
-    /// `now` in the engine's milliseconds since its first reading (which this makes `now`'s
-    /// if there was none); a reading before the first is 0.
-    fn engine_ms(&mut self, now: Now) -> u64 {
-        self.origin_ns.get_or_insert(now.reading_ns);
-        self.ms_at(now)
-    }
-
-    /// `now` in the engine's milliseconds since its first reading (`now` itself if there was
-    /// none).
-    fn ms_at(&self, now: Now) -> u64 {
-        let origin = self.origin_ns.unwrap_or(now.reading_ns);
-        u64::try_from(now.reading_ns.saturating_sub(origin) / 1_000_000).unwrap_or(0)
     }
 
     /// The reading the core was last told of, as a [`Now`] whose stamp is `stamp`: handling a
@@ -368,7 +356,7 @@ impl Engine {
     /// show came since the last publication, or the periodic interval has run.
     #[must_use]
     pub fn publication_due(&self, now: Now) -> bool {
-        self.unpublished || self.ms_at(now) >= self.next_publication_ms
+        self.unpublished || self.until_publication_ms(now) == 0
     }
 
     /// The streams' messages at `now`, if a publication is due ([`publication_due`](Self::publication_due)).
@@ -376,9 +364,9 @@ impl Engine {
         if !self.publication_due(now) {
             return None;
         }
-        let now_ms = self.engine_ms(now);
+        self.origin_ns.get_or_insert(now.reading_ns);
         self.unpublished = false;
-        self.next_publication_ms = now_ms.saturating_add(self.options.publish_every_ms.max(1));
+        self.published_ms = Some(reading_ms(now));
         Some(self.publication(now.stamp))
     }
 
@@ -395,11 +383,23 @@ impl Engine {
         }
     }
 
-    /// Milliseconds from `now` until the next periodic publication is due (0 if it is).
+    /// Milliseconds from `now` until the next periodic publication is due (0 if it is): the
+    /// publication interval after the last publication's reading; at once before the first, and
+    /// when `now` reads earlier than the last (a clock that went back: its stamps would go back
+    /// too).
     #[must_use]
     pub fn until_publication_ms(&self, now: Now) -> u64 {
-        let now_ms = self.ms_at(now);
-        self.next_publication_ms.saturating_sub(now_ms)
+        let Some(published_ms) = self.published_ms else {
+            return 0;
+        };
+        let since_ms = reading_ms(now).saturating_sub(published_ms);
+        if since_ms < 0 {
+            return 0;
+        }
+        self.options
+            .publish_every_ms
+            .max(1)
+            .saturating_sub(u64::try_from(since_ms).unwrap_or(u64::MAX))
     }
 
     /// Milliseconds from `now` until the host should call again: a publication is due, or the
