@@ -14,6 +14,7 @@ fn model() -> EngineModel {
         geometry: false,
         velocity: false,
         jumps: false,
+        rewinds: false,
     })
     .expect("valid bounds")
 }
@@ -38,6 +39,7 @@ fn geometry(velocity: bool) -> EngineModel {
         geometry: true,
         velocity,
         jumps: false,
+        rewinds: false,
     })
     .expect("valid bounds")
 }
@@ -114,4 +116,32 @@ fn each_property_fails_on_its_planted_fault() {
             "{fault:?}, velocity: {velocity}"
         );
     }
+}
+
+/// As [`model`] with a clock that can go back 1 ms, once.
+fn rewinding() -> EngineModel {
+    EngineModel::new(EngineBounds {
+        rewinds: true,
+        ..model().bounds()
+    })
+    .expect("valid bounds")
+}
+
+/// With a clock that goes back, every property holds (a command never applies past its time
+/// to live in the core's time, which counts the replayed stretch again), every witness is
+/// reached, and the count is the pinned one; an engine that stalls time after the clock went
+/// back, until it passes its old reading, fails the command property.
+#[test]
+#[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
+fn a_clock_that_goes_back_counts_on_from_its_reading() {
+    let (broken, unique) = failing(rewinding());
+    assert_eq!(broken, Vec::<&str>::new());
+    println!("engine model, 2 identifiers, the clock to 3 ms, back once: {unique} unique states");
+    let (stalled, _) = failing(
+        rewinding()
+            .with_fault(EngineFault::BackStalls)
+            .focus(engine::TIME),
+    );
+    assert_eq!(stalled, vec![engine::TIME], "BackStalls");
+    assert_eq!(unique, pins::ENGINE_REWINDS.unique);
 }

@@ -262,6 +262,16 @@ pub const ENGINE_JUMPS: Pin = Pin {
     generated: None,
 };
 
+/// The engine model with a clock that goes back 1 ms once, 2 identifiers, its clock to 3 ms.
+pub const ENGINE_REWINDS: Pin = Pin {
+    test: "models/tests/engine_model.rs::a_clock_that_goes_back_counts_on_from_its_reading",
+    model: "engine, clock going back",
+    bounds: "2 ids, 3 ms, back 1 ms once",
+    search: "BFS",
+    unique: 2_548_614,
+    generated: None,
+};
+
 /// The engine model's message check: 2 steering scenes starting at every special distance.
 pub const ENGINE_GEOMETRY_STEERING: Pin = Pin {
     test: "models/tests/engine_model.rs::the_messages_are_the_specs_at_every_special_distance",
@@ -283,7 +293,7 @@ pub const ENGINE_GEOMETRY_VELOCITY: Pin = Pin {
 };
 
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 25] = [
+pub const ALL: [Pin; 26] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -304,6 +314,7 @@ pub const ALL: [Pin; 25] = [
     RTC_QUOTA,
     ENGINE_2,
     ENGINE_JUMPS,
+    ENGINE_REWINDS,
     ENGINE_GEOMETRY_STEERING,
     ENGINE_GEOMETRY_VELOCITY,
     RELAY_1,

@@ -38,11 +38,15 @@ pub enum EngineFault {
     PoliciesReversed,
     /// `/cooperation/scenes` shows each scene's module decision as its merged decision.
     ScenesShowModuleDecision,
+    /// A reading earlier than the last told is ignored until the clock passes the last again
+    /// (`[COOP-ENGINE-STEP.1]` not applied to a clock that went back): with
+    /// [`EngineBounds::rewinds`], time stalls for the core after the clock goes back.
+    BackStalls,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 12] = [
+    pub const ALL: [Self; 13] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -55,6 +59,7 @@ impl EngineFault {
         Self::PolicyConstantsSwapped,
         Self::PoliciesReversed,
         Self::ScenesShowModuleDecision,
+        Self::BackStalls,
     ];
 }
 
@@ -77,6 +82,11 @@ pub struct EngineBounds {
     /// limit, which no step of the model reaches.
     #[serde(default)]
     pub jumps: bool,
+    /// The clock can go back, once, by 1 ms (a bag played again, a simulator reset): the core
+    /// is told nothing for it, and time counts on from the earlier reading
+    /// (`[COOP-ENGINE-STEP.1]`).
+    #[serde(default)]
+    pub rewinds: bool,
 }
 
 /// The step limit with [`EngineBounds::jumps`], in milliseconds: the time to live, so that a

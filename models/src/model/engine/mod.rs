@@ -70,6 +70,8 @@ pub const PUBLISH_EVERY_MS: u64 = 2;
 pub enum EngineAction {
     /// The clock moves on one millisecond, nothing told.
     Wait,
+    /// The clock goes back one millisecond, nothing told (with [`EngineBounds::rewinds`], once).
+    Back,
     /// The host's timeout: the engine is told the time.
     Tick,
     /// The host polls for a publication and sends what it gets.
@@ -115,6 +117,8 @@ pub struct EngineStep {
     pub reported_core_ms: Vec<Option<u64>>,
     /// What the last publication carried ([`content`]); `None` before the first.
     pub published: Option<Vec<u8>>,
+    /// The clock has gone back ([`EngineBounds::rewinds`]).
+    pub went_back: bool,
     /// Sticky flags of broken step properties ([`broken`]).
     pub broken: u8,
 }
@@ -142,6 +146,7 @@ impl Hash for EngineStep {
         self.core_ms.hash(state);
         self.reported_core_ms.hash(state);
         self.published.hash(state);
+        self.went_back.hash(state);
         self.broken.hash(state);
     }
 }
@@ -331,12 +336,23 @@ impl EngineModel {
 
     /// Counts the step to the clock's reading in `next`'s core time, as `[COOP-ENGINE-STEP.1]`
     /// says the core is told it: at most the step limit; a reading not after the latest told
-    /// is no time.
+    /// is no time, and the next step counts from it.
     fn tell(&self, next: &mut EngineStep) {
         if next.clock_ms > next.read_ms {
             let step_ms = next.clock_ms - next.read_ms;
             next.core_ms = next.core_ms.saturating_add(step_ms.min(self.max_step_ms()));
-            next.read_ms = next.clock_ms;
+        }
+        next.read_ms = next.clock_ms;
+    }
+
+    /// The reading a call at `now` tells `engine`: `now`, unless [`EngineFault::BackStalls`]
+    /// has it ignore a reading earlier than the last it was told.
+    fn reading(&self, engine: &Engine, now: Now) -> Now {
+        let told = engine.told(now.stamp);
+        if self.fault == Some(EngineFault::BackStalls) && now.reading_ns < told.reading_ns {
+            told
+        } else {
+            now
         }
     }
 
@@ -354,7 +370,11 @@ impl EngineModel {
             Some(EngineFault::ReportWithoutCatchUp) => matches!(request, Request::Sync(_)),
             _ => false,
         };
-        let at = if late { engine.told(now.stamp) } else { now };
+        let at = if late {
+            engine.told(now.stamp)
+        } else {
+            self.reading(engine, now)
+        };
         let mut handled = engine.handle(request, at);
         if self.fault == Some(EngineFault::ChangeUnpublished) && handled.change.publish {
             drop(engine.poll_publication(now));
@@ -426,6 +446,7 @@ impl Model for EngineModel {
             core_ms: 0,
             reported_core_ms: vec![None; self.ids.len()],
             published: None,
+            went_back: false,
             broken: 0,
         }]
     }
@@ -433,6 +454,9 @@ impl Model for EngineModel {
     fn actions(&self, state: &Self::State, actions: &mut Vec<Self::Action>) {
         if state.clock_ms < self.bounds.horizon_ms {
             actions.push(EngineAction::Wait);
+        }
+        if self.bounds.rewinds && !state.went_back && state.clock_ms > 0 {
+            actions.push(EngineAction::Back);
         }
         actions.push(EngineAction::Tick);
         if !self.bounds.geometry && state.engine.publication_due(state.now()) {
@@ -459,14 +483,22 @@ impl Model for EngineModel {
     fn next_state(&self, last: &Self::State, action: Self::Action) -> Option<Self::State> {
         let mut next = last.clone();
         let now = last.now();
-        if !matches!(action, EngineAction::Wait | EngineAction::Publish) {
+        if !matches!(
+            action,
+            EngineAction::Wait | EngineAction::Back | EngineAction::Publish
+        ) {
             self.tell(&mut next);
         }
         match action {
             EngineAction::Wait => next.clock_ms += 1,
+            EngineAction::Back => {
+                next.clock_ms = next.clock_ms.checked_sub(1)?;
+                next.went_back = true;
+            }
             EngineAction::Tick => {
                 let before = next.engine.state().clone();
-                let mut change = next.engine.handle_timeout(now);
+                let at = self.reading(&next.engine, now);
+                let mut change = next.engine.handle_timeout(at);
                 if self.fault == Some(EngineFault::ChangeUnhinted) {
                     change.publish = false;
                 }
@@ -555,6 +587,14 @@ impl Model for EngineModel {
         }
         if !self.bounds.jumps {
             all.retain(|property| property.name != properties::JUMP_WITNESS);
+        }
+        if self.bounds.rewinds {
+            // On a clock that went back, a scene's time to live is counted in the core's time
+            // only (`[COOP-ENGINE-STEP.1]`: the replayed stretch counts again), which the step
+            // property checks; on the clock it would have been shorter.
+            all.retain(|property| property.name != properties::LIFETIME);
+        } else {
+            all.retain(|property| property.name != properties::REWIND_WITNESS);
         }
         if let Some(focus) = self.focus {
             all.retain(|property| property.name == focus);

@@ -21,6 +21,8 @@ pub const LIFETIME: &str =
     "COOP-ENGINE-TIME.1: a scene lives its time to live from the time of its last report";
 /// The messages' property.
 pub const MESSAGES: &str = "COOP-OUT-STATUS.1, COOP-OUT-ORDER.1 (engine): the streams' factors are the spec's mapping of the state, field by field, ordered by distance";
+/// The witness of a clock that went back: reachable only when it can.
+pub(super) const REWIND_WITNESS: &str = "witness: a scene is live after the clock went back";
 /// The witness of a scene past its time to live, before the core is told: reachable only when
 /// the clock runs past the time to live.
 pub(super) const STALE_WITNESS: &str =
@@ -119,6 +121,11 @@ fn stale_scene_awaits_tick(model: &EngineModel, state: &EngineStep) -> bool {
     })
 }
 
+/// The clock went back, and a scene is live.
+fn live_after_rewind(_: &EngineModel, state: &EngineStep) -> bool {
+    state.went_back && state.engine.state().scenes().next().is_some()
+}
+
 /// An operator's command has applied.
 fn command_applied(_: &EngineModel, state: &EngineStep) -> bool {
     state
@@ -143,6 +150,7 @@ pub fn properties() -> Vec<Property<EngineModel>> {
         Property::always(SCENES, scenes_are_the_spec),
         Property::sometimes(STALE_WITNESS, stale_scene_awaits_tick),
         Property::sometimes(JUMP_WITNESS, scene_outlives_a_jump),
+        Property::sometimes(REWIND_WITNESS, live_after_rewind),
         Property::sometimes("witness: an operator's command applies", command_applied),
     ]
 }
