@@ -318,3 +318,28 @@ fn simulate_exits_one_on_a_violation_with_a_trace_that_replays() {
     assert_eq!(replay.status.code(), Some(1), "{replayed}");
     assert!(replayed.contains("the property is violated"), "{replayed}");
 }
+
+/// `--planner` is core or engine, and a fault of the core cannot be planted through the
+/// engine: each is bad usage, said plainly.
+#[test]
+fn a_bad_planner_or_a_core_fault_through_the_engine_is_bad_usage() {
+    for (args, said) in [
+        (
+            &["--planner", "node"][..],
+            "--planner is core or engine, not \"node\"",
+        ),
+        (
+            &["--planner", "engine", "--fault", "CommandToggles"],
+            "--fault CommandToggles is a fault of the core's transition",
+        ),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
+            .args(["check", "--model", "network"])
+            .args(args)
+            .output()
+            .expect("the checker runs");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(said), "{args:?}: {stderr}");
+    }
+}

@@ -28,7 +28,7 @@ fn run(bounds: Bounds, threads: usize, strategy: Strategy, symmetry: bool) -> Re
 }
 
 /// Checks to completion and requires every property satisfied.
-fn passes<M: Checkable>(model: &M, settings: Settings) -> Report
+pub(crate) fn passes<M: Checkable>(model: &M, settings: Settings) -> Report
 where
     M::State: core::hash::Hash
         + core::fmt::Debug
@@ -47,7 +47,7 @@ where
 
 /// The report reached exactly the pinned counts (`cooperation_models::check::pins`, rendered as
 /// docs/counts.md): the unique states, and the generated ones where they are pinned.
-fn assert_pinned(report: &Report, pin: Pin) {
+pub(crate) fn assert_pinned(report: &Report, pin: Pin) {
     assert_eq!(report.unique, pin.unique, "unique states of {}", pin.test);
     if let Some(generated) = pin.generated {
         assert_eq!(
@@ -59,7 +59,7 @@ fn assert_pinned(report: &Report, pin: Pin) {
 }
 
 /// The properties a report found unsatisfied.
-fn unsatisfied(report: &Report) -> Vec<&'static str> {
+pub(crate) fn unsatisfied(report: &Report) -> Vec<&'static str> {
     report
         .outcomes
         .iter()

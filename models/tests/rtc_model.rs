@@ -11,6 +11,8 @@ use cooperation_models::model::rtc::AVOIDANCE;
 use cooperation_models::{RtcBounds, RtcFault, RtcModel, Trace};
 use stateright::Expectation;
 
+use crate::exhaustive::unsatisfied;
+
 fn run(bounds: RtcBounds, threads: usize, strategy: Strategy, symmetry: bool) -> Report {
     let model = RtcModel::new(bounds).expect("valid bounds");
     let settings = Settings {
@@ -21,16 +23,6 @@ fn run(bounds: RtcBounds, threads: usize, strategy: Strategy, symmetry: bool) ->
     let report = check(&model, settings, &mut std::io::sink());
     assert!(report.complete, "the search did not complete");
     report
-}
-
-/// The names of the properties a report did not find satisfied.
-fn unsatisfied(report: &Report) -> Vec<&'static str> {
-    report
-        .outcomes
-        .iter()
-        .filter(|o| !o.holds)
-        .map(|o| o.name)
-        .collect()
 }
 
 /// The `always` properties a report found broken.

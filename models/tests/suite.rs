@@ -12,6 +12,7 @@ mod engine_model;
 mod exhaustive;
 mod faults;
 mod model_only;
+mod network_engine;
 mod reductions;
 mod relay;
 mod relay_model;

@@ -292,8 +292,28 @@ pub const ENGINE_GEOMETRY_VELOCITY: Pin = Pin {
     generated: None,
 };
 
+/// The network model through the service engine: two operators, 2 identifiers.
+pub const NETWORK_ENGINE: Pin = Pin {
+    test: "models/tests/network_engine.rs::network_through_the_engine_two_operators",
+    model: "network through the engine",
+    bounds: "2 ids",
+    search: "BFS",
+    unique: 48_798,
+    generated: None,
+};
+
+/// The network model through the service engine, one operator told whole statuses.
+pub const NETWORK_ENGINE_STATUS_VIEWS: Pin = Pin {
+    test: "models/tests/network_engine.rs::network_through_the_engine_status_views",
+    model: "network through the engine, status views",
+    bounds: "2 ids, 1 operator",
+    search: "BFS",
+    unique: 370_309,
+    generated: None,
+};
+
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 26] = [
+pub const ALL: [Pin; 28] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -308,6 +328,8 @@ pub const ALL: [Pin; 26] = [
     SEQUENTIAL_1X4_HASHED_6_STEPS,
     NETWORK,
     NETWORK_STATUS_VIEWS,
+    NETWORK_ENGINE,
+    NETWORK_ENGINE_STATUS_VIEWS,
     RTC_2X3,
     RTC_AVOIDANCE,
     RTC_TWO_AVOIDANCES,

@@ -63,6 +63,7 @@ impl Checkable for crate::NetworkModel {
             operators: self.operators(),
             views: self.views(),
             fault: self.fault(),
+            planner: self.planner(),
             property: property.to_owned(),
             actions,
         }

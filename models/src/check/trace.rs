@@ -8,7 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::model::describe::{describe, short};
 use crate::model::ids::ModelError;
-use crate::model::network::{NetAction, NetBounds, NetworkModel, Seen, Views, OPERATORS};
+use crate::model::network::{
+    NetAction, NetBounds, NetworkModel, PlannerKind, Seen, Views, OPERATORS,
+};
 use crate::model::rtc::{Call, RtcBounds, RtcFault, RtcModel};
 use crate::model::sequential::{Bounds, SequentialModel};
 use crate::Fault;
@@ -47,6 +49,9 @@ pub enum Trace {
         views: Views,
         /// The injected fault, if the run was a sensitivity test.
         fault: Option<Fault>,
+        /// What the planner is (the core when absent).
+        #[serde(default, skip_serializing_if = "is_core")]
+        planner: PlannerKind,
         /// The property the trace breaks.
         property: String,
         /// The actions (owner inputs, messages sent, delivered, duplicated, lost), in order.
@@ -145,10 +150,11 @@ impl Trace {
                 operators,
                 views,
                 fault,
+                planner,
                 property,
                 actions,
             } => {
-                let model = network(*bounds, *operators, *views, *fault)?;
+                let model = network(*bounds, *operators, *views, *fault)?.with_planner(*planner);
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
                 holds_at(&model, property, steps.last())
             }
@@ -195,10 +201,11 @@ impl Trace {
                 operators,
                 views,
                 fault,
+                planner,
                 actions,
                 ..
             } => {
-                let model = network(*bounds, *operators, *views, *fault)?;
+                let model = network(*bounds, *operators, *views, *fault)?.with_planner(*planner);
                 let steps = model.replay(actions).map_err(ReplayError::Model)?;
                 for (n, (action, step)) in actions.iter().zip(steps.iter().skip(1)).enumerate() {
                     let _ = writeln!(out, "{:>3}. {}", n + 1, model.describe(action));
@@ -278,11 +285,12 @@ impl Trace {
                 operators,
                 views,
                 fault,
+                planner,
                 actions,
                 ..
             } => {
                 out += "    participant Module\n    participant Planner\n    participant Operator1 as Operator 1\n";
-                let model = network(*bounds, *operators, *views, *fault)?;
+                let model = network(*bounds, *operators, *views, *fault)?.with_planner(*planner);
                 if model.operators() > 1 {
                     out += "    participant Operator2 as Operator 2\n";
                 }
@@ -291,6 +299,7 @@ impl Trace {
                     let (from, to, arrow) = match action {
                         NetAction::Owner(_) => ("Module", "Planner".to_owned(), "->>"),
                         NetAction::Publish(k) => ("Planner", format!("Operator{}", k + 1), "--)"),
+                        NetAction::PublishAll => ("Planner", "Operator1".to_owned(), "--)"),
                         NetAction::Send(k, ..) => (operator(*k), "Planner".to_owned(), "--)"),
                         NetAction::Deliver(..) => ("Planner", "Planner".to_owned(), "->>"),
                         NetAction::Receive(k, _)
@@ -407,6 +416,10 @@ const fn default_operators() -> usize {
 
 fn is_default_operators(operators: &usize) -> bool {
     *operators == OPERATORS
+}
+
+fn is_core(planner: &PlannerKind) -> bool {
+    *planner == PlannerKind::Core
 }
 
 fn is_identifiers(views: &Views) -> bool {

@@ -4,7 +4,9 @@
 use std::path::PathBuf;
 
 use cooperation::TableLayout;
-use cooperation_models::model::network::{Views, COMMANDS_IN_FLIGHT, STATUSES_IN_FLIGHT};
+use cooperation_models::model::network::{
+    PlannerKind, Views, COMMANDS_IN_FLIGHT, STATUSES_IN_FLIGHT,
+};
 use core::fmt::Debug;
 use core::hash::Hash;
 
@@ -174,21 +176,35 @@ fn run_network(options: &Options) -> Result<bool, String> {
     let model = NetworkModel::new(bounds)
         .and_then(|model| model.with_operators(options.operators))
         .map_err(|e| e.to_string())?
-        .with_views(options.views);
+        .with_views(options.views)
+        .with_planner(options.planner);
+    let through_engine = options.planner != PlannerKind::Core;
     let model = match fault(options, &Fault::ALL)? {
+        Some(fault) if through_engine => {
+            return Err(format!(
+                "--fault {fault:?} is a fault of the core's transition, which the engine calls \
+                 itself: it cannot be planted with --planner engine"
+            ))
+        }
         Some(fault) => model.with_fault(fault),
         None => model,
     };
     let operators = model.operators();
     println!(
-        "network model: the planner and {operators} operator{}, {} scene identifiers, at most \
+        "network model: the planner{} and {operators} operator{}, {} scene identifiers, at most \
          {STATUSES_IN_FLIGHT} status message per operator and {COMMANDS_IN_FLIGHT} commands in flight, \
          delivered in any order, duplicated or lost; operators are told {}",
+        if through_engine {
+            " (the service engine, publishing when a change makes a publication due: --planner engine)"
+        } else {
+            ""
+        },
         if operators == 1 { "" } else { "s" },
         bounds.scenes,
-        match options.views {
-            Views::Identifiers => "which scenes exist (--views ids)",
-            Views::Statuses => "the library's statuses, decisions included (--views statuses)",
+        match (options.views, through_engine) {
+            (Views::Identifiers, _) => "which scenes exist (--views ids)",
+            (Views::Statuses, false) => "the library's statuses, decisions included (--views statuses)",
+            (Views::Statuses, true) => "the statuses the engine's factors carry, decisions included (--views statuses)",
         }
     );
     let settings = Settings {

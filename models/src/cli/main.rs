@@ -10,7 +10,7 @@
 //!                            [--keep-going] [--memory-gib G] [--max-states N]
 //!                            [--table adaptive|hashed] [--keep-stalled]
 //! cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I] [--quota Q] ...
-//! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--scenes N] ...
+//! cooperation-models check   --model network [--operators 1|2] [--views ids|statuses] [--planner core|engine] [--scenes N] ...
 //! cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
 //!                            [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
 //! cooperation-models coverage [--modules M] [--scenes N] [--live L] [--retired R]
@@ -54,7 +54,8 @@ const USAGE: &str = "usage:
   cooperation-models check   --model rtc [--modules INTERFACES] [--first-interface I]
                              [--quota Q] ...
   cooperation-models check   --model network [--operators 1|2] [--views ids|statuses]
-                             [--scenes N] [--threads T] [--fault NAME] ...
+                             [--planner core|engine] [--scenes N] [--threads T]
+                             [--fault NAME] ...
   cooperation-models check   --model trivial [--threads T] [--bytes B]
   cooperation-models simulate [--modules M] [--scenes N] [--live L] [--retired R]
                              [--seeds A..B] [--depth D] [--threads T] [--fault NAME]
@@ -80,7 +81,10 @@ that changes nothing ends a path, and all such ends that fired one rule count as
 model (breadth first) defaults to 2 scene identifiers, 2 operators and --views ids: status
 messages tell operators which scenes exist; --views statuses makes them carry the library's
 whole statuses, decisions included, and lets owners abort a scene (complete for --operators 1;
-with 2 operators it outgrows memory). The rtc model's --modules is its number of interfaces,
+with 2 operators it outgrows memory). --planner engine makes the planner a node's service
+engine: reports go through a module's sync, commands are set_commands requests, statuses are
+published when a change makes one due and read from the factors it writes (--fault, a fault
+of the core, cannot be planted there). The rtc model's --modules is its number of interfaces,
 taken in order from lane_change_left, lane_change_right, intersection,
 static_obstacle_avoidance_left and static_obstacle_avoidance_right, from position
 --first-interface (default 0; 3 for the avoidances); --quota Q gives the adapter a quota of Q

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use cooperation::TableLayout;
 use cooperation_models::check::budget::GIB;
 use cooperation_models::check::run::{Settings, Stop, Strategy};
+use cooperation_models::model::network::PlannerKind;
 use cooperation_models::model::trivial::TrivialModel;
 use cooperation_models::{Bounds, Fault, RtcFault, Views};
 
@@ -34,6 +35,7 @@ pub(crate) struct Options {
     pub(crate) first_interface: usize,
     pub(crate) quota: Option<usize>,
     pub(crate) views: Views,
+    pub(crate) planner: PlannerKind,
     pub(crate) seeds: std::ops::Range<u64>,
     pub(crate) write: Option<PathBuf>,
     pub(crate) against: Option<PathBuf>,
@@ -61,6 +63,7 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
     let mut first_interface = 0;
     let mut quota = None;
     let mut views = Views::Identifiers;
+    let mut planner = PlannerKind::Core;
     let mut seeds = 0..100;
     let (mut write, mut against) = (None, None);
     let mut rest = args.iter();
@@ -120,6 +123,15 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
                     "ids" => Views::Identifiers,
                     "statuses" => Views::Statuses,
                     other => return Err(format!("--views is ids or statuses, not {other:?}")),
+                };
+            }
+            "--planner" => {
+                planner = match value.as_str() {
+                    "core" => PlannerKind::Core,
+                    "engine" => PlannerKind::Engine {
+                        written_fault: None,
+                    },
+                    other => return Err(format!("--planner is core or engine, not {other:?}")),
                 };
             }
             "--depth" => stop.depth = Some(number()?),
@@ -192,6 +204,7 @@ pub(crate) fn parse(args: &[String]) -> Result<Options, String> {
         first_interface,
         quota,
         views,
+        planner,
         seeds,
         write,
         against,

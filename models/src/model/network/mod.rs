@@ -9,24 +9,31 @@
 //!
 //! What a status message tells an operator is the model's [`Views`]: which scenes exist (their
 //! identifiers), or their whole statuses as the library reports them, decisions included.
+//!
+//! [`NetworkModel::through_engine`] makes the planner a node instead: the service engine, fed
+//! reports as a module's sync and commands as `set_commands` requests, publishing when it says
+//! a publication is due, its statuses read back from the factors it writes (`engine.rs`).
 
+mod describe;
+mod engine;
 mod properties;
 mod views;
 
+pub use engine::{Planner, PlannerKind};
 pub use properties::{properties, reported};
 pub use views::Views;
 
 use cooperation::{
-    Behavior, Command, Config, CooperationStatus, Decision, Geometry, Input, Limits, Module,
-    OperatorDecision, Phase, Policy, Rejection, Report, Rule, SceneId, State, Transition,
+    Behavior, Command, Config, CooperationStatus, Input, Limits, Module, OperatorDecision, Policy,
+    Rejection, Rule, SceneId, State, Transition,
 };
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property, Representative};
 
+use describe::owner_inputs;
 use properties::{observe_delivery, observe_owner, observe_publish, REJECTION_CHANGED};
 
 use crate::check::budget::Halt;
-use crate::model::describe::{describe, short};
 use crate::model::ids::{index, ModelError, MAX_SMALL_SCENES};
 use crate::Fault;
 
@@ -91,6 +98,10 @@ pub enum NetAction {
     Send(usize, SceneId, OperatorDecision),
     /// The planner receives the command message at this position of an operator's channel.
     Deliver(usize, usize),
+    /// The planner's engine publishes, a publication being due
+    /// ([`NetworkModel::through_engine`]): every acting operator's channel gets the message,
+    /// in place of one still unread (a topic keeps its last message for each subscriber).
+    PublishAll,
     /// An operator receives a duplicate of the status message at this position: it gets the
     /// statuses and the message stays in flight.
     ReceiveDuplicate(usize, usize),
@@ -107,6 +118,9 @@ pub enum NetAction {
 pub struct NetStep {
     /// The planner's state.
     pub core: State,
+    /// The planner's engine, whose core `core` copies ([`NetworkModel::through_engine`]).
+    #[serde(skip)]
+    pub planner: Option<Planner>,
     /// The rule the planner's last input fired or was rejected by.
     pub last: Option<Rule>,
     /// What each operator was last told.
@@ -140,6 +154,7 @@ pub struct NetworkModel {
     config: Config,
     ids: Vec<SceneId>,
     owner: Vec<Input>,
+    planner: PlannerKind,
 }
 
 impl NetworkModel {
@@ -176,6 +191,7 @@ impl NetworkModel {
             config,
             ids,
             owner,
+            planner: PlannerKind::Core,
         })
     }
 
@@ -201,6 +217,31 @@ impl NetworkModel {
         self.views = views;
         self.owner = owner_inputs(&self.ids, views);
         self
+    }
+
+    /// The same model with the planner a node: the service engine, reports sent as a planning
+    /// module's sync, commands as `set_commands` requests, statuses published when the engine
+    /// says one is due and read back from the factors it writes (`engine.rs`). A fault of
+    /// the core ([`with_fault`](Self::with_fault)) cannot be planted in the engine's core: such
+    /// a model has no initial state ([`initial`](Self::initial) says why).
+    #[must_use]
+    pub const fn through_engine(self) -> Self {
+        self.with_planner(PlannerKind::Engine {
+            written_fault: None,
+        })
+    }
+
+    /// The same model with `planner` as its planner.
+    #[must_use]
+    pub const fn with_planner(mut self, planner: PlannerKind) -> Self {
+        self.planner = planner;
+        self
+    }
+
+    /// What the planner is.
+    #[must_use]
+    pub const fn planner(&self) -> PlannerKind {
+        self.planner
     }
 
     /// The same model with a deliberately wrong behaviour injected.
@@ -260,8 +301,20 @@ impl NetworkModel {
     pub fn initial(&self) -> Result<NetStep, ModelError> {
         let core =
             State::new(self.config.clone()).map_err(|e| ModelError::Bounds(e.to_string()))?;
+        let planner = if self.planner != PlannerKind::Core {
+            if let Some(fault) = self.fault {
+                return Err(ModelError::Bounds(format!(
+                    "{fault:?} is a fault of the core's transition, which the engine calls itself: \
+                     it cannot be planted through the engine"
+                )));
+            }
+            Some(Planner::new(self.config.clone()).map_err(ModelError::Bounds)?)
+        } else {
+            None
+        };
         Ok(NetStep {
             core,
+            planner,
             last: None,
             views: Default::default(),
             statuses: Default::default(),
@@ -287,60 +340,38 @@ impl NetworkModel {
         Ok(steps)
     }
 
-    /// One action in words.
-    #[must_use]
-    pub fn describe(&self, action: &NetAction) -> String {
-        match action {
-            NetAction::Owner(i) => self
-                .owner
-                .get(*i)
-                .map_or_else(|| format!("owner input {i}"), describe),
-            NetAction::Publish(k) => format!("planner sends its statuses to operator {}", k + 1),
-            NetAction::Receive(k, m) => format!("operator {} receives status message {m}", k + 1),
-            NetAction::Send(k, id, decision) => {
-                format!(
-                    "operator {} sends set_commands [{} {decision}]",
-                    k + 1,
-                    short(*id)
-                )
-            }
-            NetAction::Deliver(k, m) => {
-                format!("planner receives operator {}'s command message {m}", k + 1)
-            }
-            NetAction::ReceiveDuplicate(k, m) => {
-                format!(
-                    "operator {} receives a duplicate of status message {m}",
-                    k + 1
-                )
-            }
-            NetAction::DuplicateCommand(k, m) => format!(
-                "network duplicates operator {}'s command message {m}",
-                k + 1
-            ),
-            NetAction::LoseStatus(k, m) => {
-                format!("network loses status message {m} to operator {}", k + 1)
-            }
-            NetAction::LoseCommand(k, m) => {
-                format!("network loses operator {}'s command message {m}", k + 1)
+    /// The planner's statuses as an operator would see them now: the library's, or with the
+    /// engine, those its factors carry (as [`Self::written`] reads them).
+    fn snapshot(&self, step: &NetStep) -> Vec<Seen> {
+        match &step.planner {
+            Some(planner) => self.written(step, &planner.publication()),
+            None => {
+                let mut statuses = Vec::new();
+                step.core.statuses_into(&mut statuses);
+                let statuses = statuses
+                    .into_iter()
+                    .map(|s: CooperationStatus| (s.id, Some(s)));
+                self.seen(step, statuses)
             }
         }
     }
 
-    /// The planner's statuses as an operator would see them now.
-    fn snapshot(&self, step: &NetStep) -> Vec<Seen> {
-        let mut statuses = Vec::new();
-        step.core.statuses_into(&mut statuses);
+    /// Statuses as a message tells of them, with each identifier's incarnation.
+    fn seen(
+        &self,
+        step: &NetStep,
+        statuses: impl Iterator<Item = (SceneId, Option<CooperationStatus>)>,
+    ) -> Vec<Seen> {
         statuses
-            .into_iter()
-            .map(|status: CooperationStatus| {
-                let incarnation = index(status.id)
+            .map(|(id, status)| {
+                let incarnation = index(id)
                     .and_then(|i| step.incarnation.get(i))
                     .copied()
                     .unwrap_or(0);
                 Seen {
-                    id: status.id,
+                    id,
                     incarnation,
-                    status: (self.views == Views::Statuses).then_some(status),
+                    status: status.filter(|_| self.views == Views::Statuses),
                 }
             })
             .collect()
@@ -373,7 +404,7 @@ impl NetworkModel {
     }
 
     /// Applies a planner input and records what changed.
-    fn planner(
+    fn apply_core(
         &self,
         from: &NetStep,
         next: &mut NetStep,
@@ -384,7 +415,14 @@ impl NetworkModel {
             Ok(transition) => transition.rule,
             Err(rejection) => rejection.rule(),
         });
-        if result.is_err() && core != from.core {
+        self.settle(from, next, core, result.is_err());
+        result
+    }
+
+    /// Records the planner's core after a call, `refused` or not: a refusal that changed it,
+    /// and the identifiers that became live.
+    fn settle(&self, from: &NetStep, next: &mut NetStep, core: State, refused: bool) {
+        if refused && core != from.core {
             next.broken |= REJECTION_CHANGED;
         }
         if core != from.core {
@@ -399,7 +437,6 @@ impl NetworkModel {
             }
         }
         next.core = core;
-        result
     }
 }
 
@@ -416,11 +453,14 @@ impl Model for NetworkModel {
             return;
         }
         actions.extend((0..self.owner.len()).map(NetAction::Owner));
+        if step.planner.as_ref().is_some_and(Planner::due) {
+            actions.push(NetAction::PublishAll);
+        }
         let room = step.commands.iter().map(Vec::len).sum::<usize>() < COMMANDS_IN_FLIGHT;
         for k in 0..self.operators {
             let statuses = step.statuses.get(k).map_or(0, Vec::len);
             let commands = step.commands.get(k).map_or(0, Vec::len);
-            if statuses < STATUSES_IN_FLIGHT {
+            if statuses < STATUSES_IN_FLIGHT && step.planner.is_none() {
                 actions.push(NetAction::Publish(k));
             }
             for m in 0..statuses {
@@ -451,8 +491,23 @@ impl Model for NetworkModel {
         match action {
             NetAction::Owner(i) => {
                 let input = self.owner.get(i)?;
-                let _ = self.planner(from, &mut next, input);
+                if from.planner.is_some() {
+                    self.report_through(from, &mut next, input)?;
+                } else {
+                    let _ = self.apply_core(from, &mut next, input);
+                }
                 observe_owner(from, &mut next);
+            }
+            NetAction::PublishAll => {
+                let publication = next.planner.as_mut()?.poll()?;
+                let message = StatusMessage {
+                    seen: self.written(from, &publication),
+                };
+                observe_publish(self, from, &mut next, &message);
+                for channel in next.statuses.iter_mut().take(self.operators) {
+                    channel.clear();
+                    channel.push(message.clone());
+                }
             }
             NetAction::Publish(k) => {
                 let message = StatusMessage {
@@ -482,11 +537,19 @@ impl Model for NetworkModel {
                 let channel = next.commands.get_mut(k)?;
                 (m < channel.len()).then_some(())?;
                 let message = channel.remove(m);
-                let input = Input::SetCommands {
-                    commands: vec![message.command],
+                let (applied, second) = if from.planner.is_some() {
+                    self.command_through(from, &mut next, message.command)?
+                } else {
+                    let input = Input::SetCommands {
+                        commands: vec![message.command],
+                    };
+                    let applied = self.apply_core(from, &mut next, &input).is_ok();
+                    (
+                        applied,
+                        applied && self.transition(&next.core, &input).0 != next.core,
+                    )
                 };
-                let result = self.planner(from, &mut next, &input);
-                observe_delivery(from, &mut next, &message, &input, &result, self);
+                observe_delivery(from, &mut next, &message, applied, second);
             }
             NetAction::ReceiveDuplicate(k, m) => {
                 let message = from.statuses.get(k)?.get(m)?.clone();
@@ -524,35 +587,4 @@ impl Model for NetworkModel {
         }
         all
     }
-}
-
-/// The scene owner's inputs: each identifier registers (its module declines), runs (its module
-/// goes on) and completes; with status views it can also abort (its module declines), which
-/// makes it not cancellable.
-fn owner_inputs(ids: &[SceneId], views: Views) -> Vec<Input> {
-    let geometry = Geometry::velocity(0.0);
-    let mut updates = vec![
-        (Phase::Running, Decision::Activate),
-        (Phase::Succeeded, Decision::Activate),
-    ];
-    if views == Views::Statuses {
-        updates.push((Phase::Aborting, Decision::Deactivate));
-    }
-    let mut owner = Vec::new();
-    for &id in ids {
-        owner.push(Input::Register {
-            id,
-            module: MODULE,
-            report: Report::new(Decision::Deactivate, geometry),
-        });
-        for &(phase, decision) in &updates {
-            owner.push(Input::Update {
-                id,
-                module: MODULE,
-                phase,
-                report: Report::new(decision, geometry),
-            });
-        }
-    }
-    owner
 }

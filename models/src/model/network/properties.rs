@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use cooperation::{Input, OperatorDecision, Phase, Rejection, Rule, Scene, State, Transition};
+use cooperation::{OperatorDecision, Phase, Rule, Scene, State};
 use stateright::Property;
 
 use super::{CommandMessage, NetStep, NetworkModel, Seen, StatusMessage, Views};
@@ -81,14 +81,14 @@ pub(super) fn observe_owner(from: &NetStep, next: &mut NetStep) {
     }
 }
 
-/// The step properties of a delivered command, recorded as sticky flags.
+/// The step properties of a delivered command, recorded as sticky flags: whether the planner
+/// `applied` it, and whether applying it `again` at once changed the core.
 pub(super) fn observe_delivery(
     from: &NetStep,
     next: &mut NetStep,
     message: &CommandMessage,
-    input: &Input,
-    result: &Result<Transition, Rejection>,
-    model: &NetworkModel,
+    applied: bool,
+    again: bool,
 ) {
     let id = message.command.id;
     // Only the named scene's operator decision may change.
@@ -135,11 +135,8 @@ pub(super) fn observe_delivery(
         next.broken |= NOT_AT_ONCE;
     }
     // Applying it again at once has no second effect.
-    if result.is_ok() {
-        let (again, _) = model.transition(&next.core, input);
-        if again != next.core {
-            next.broken |= SECOND_EFFECT;
-        }
+    if applied && again {
+        next.broken |= SECOND_EFFECT;
     }
 }
 
