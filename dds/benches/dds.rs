@@ -10,7 +10,8 @@
 //!   its reply before the next. Timed from just before the request is written to just after its
 //!   reply is taken; every latency is kept.
 //! - **Command to publication.** For each `set_commands`, the time until the client's reader of
-//!   `velocity_factors` has a sample published after the command's reply.
+//!   `velocity_factors` has a sample published after the command's reply; the next command
+//!   waits, untimed, for the publication's `steering_factors` sample too.
 //! - **In process.** The same requests read, answered and framed without DDS
 //!   (`Endpoint::read`, `Engine::handle`, `dds::to_cdr`), on an engine with the same scenes; and a
 //!   publication's two messages built and written in CDR, against their JSON for rosbridge.
@@ -265,6 +266,23 @@ fn main() {
         .registry()
         .register(&mut factors, Token(0), Interest::READABLE)
         .expect("register");
+    // The steering factors, the publication's second sample: each command waits for it before
+    // the next, so that no timed call meets the node still writing the last publication.
+    let steering_topic = participant
+        .create_topic(
+            dds::topic(STEERING_FACTORS),
+            dds::type_name(STEERING_FACTORS_TYPE, ""),
+            &qos(1),
+            TopicKind::NoKey,
+        )
+        .expect("topic");
+    let mut steering = subscriber
+        .create_datareader_no_key::<Raw, RawAdapter>(&steering_topic, None)
+        .expect("reader");
+    factors_poll
+        .registry()
+        .register(&mut steering, Token(1), Interest::READABLE)
+        .expect("register");
 
     let get = cdr::to_vec(&GetCooperationPoliciesRequest {}).expect("encodes");
     let set: Vec<Vec<u8>> = (0..ROUND_TRIPS + 20)
@@ -297,6 +315,7 @@ fn main() {
     let mut events = Events::with_capacity(4);
     for message in set.iter().skip(20) {
         while factors.take_next_sample().expect("read").is_some() {}
+        while steering.take_next_sample().expect("read").is_some() {}
         let started = Instant::now();
         let reply: SetCooperationCommandsResponse =
             cdr::from_slice(&commands.call(message)).expect("a reply");
@@ -307,6 +326,12 @@ fn main() {
                 published.times.push(started.elapsed());
                 break;
             }
+            assert!(started.elapsed() < DEADLINE, "a publication was lost");
+            factors_poll
+                .poll(&mut events, Some(Duration::from_millis(50)))
+                .expect("poll");
+        }
+        while steering.take_next_sample().expect("read").is_none() {
             assert!(started.elapsed() < DEADLINE, "a publication was lost");
             factors_poll
                 .poll(&mut events, Some(Duration::from_millis(50)))

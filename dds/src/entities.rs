@@ -310,9 +310,14 @@ impl Replies {
         }
     }
 
-    /// Writes every reply whose client's reader is matched or that waited long enough.
+    /// Writes every reply whose client's reader is matched or that waited long enough; then,
+    /// if it wrote any, yields the thread. A written sample is sent by the participant's own
+    /// thread: yielding lets it send the replies before the caller builds and writes a
+    /// publication, whose fragments it could otherwise send first when it found both waiting
+    /// (docs/performance.md, *The DDS node on the engine*).
     pub(crate) fn flush(&mut self, servers: &[Server]) {
         let now = Instant::now();
+        let waiting = self.waiting.len();
         self.waiting.retain(|waiting| {
             let Some(server) = servers.get(waiting.server) else {
                 return false;
@@ -336,6 +341,9 @@ impl Replies {
             }
             false
         });
+        if self.waiting.len() < waiting {
+            std::thread::yield_now();
+        }
     }
 }
 
