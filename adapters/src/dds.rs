@@ -32,7 +32,7 @@
 //! let (read_header, incoming) = endpoint.read(&request)?;
 //! assert_eq!(read_header, header);
 //!
-//! let mut engine = Engine::new(cooperation_adapters::settings::load(None)?, Options::default())?;
+//! let mut engine = Engine::from_settings(None, Options::default())?;
 //! let handled = engine.handle(incoming, Now::default());
 //! let reply = header.frame(&dds::to_cdr(&handled.reply)?);
 //! assert_eq!(RequestHeader::split(&reply)?.0, header);

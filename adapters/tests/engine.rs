@@ -338,3 +338,27 @@ fn a_publication_rate_is_taken_once_for_every_host() {
         );
     }
 }
+
+/// Every host builds its engine from a settings file the same way: the built-in settings for
+/// none, and a file that cannot be read refused, named, before any engine exists.
+#[test]
+fn every_host_builds_its_engine_from_settings_one_way() {
+    use cooperation_adapters::engine::EngineError;
+    let built = Engine::from_settings(None, Options::default()).expect("the built-in settings");
+    let expected = Engine::new(
+        cooperation_adapters::settings::load(None).expect("the built-in settings"),
+        Options::default(),
+    )
+    .expect("a configuration");
+    assert_eq!(built, expected);
+    let missing = std::path::Path::new("/nonexistent/cooperation.param.yaml");
+    let Err(EngineError::Settings(message)) =
+        Engine::from_settings(Some(missing), Options::default())
+    else {
+        panic!("a missing settings file is refused as such");
+    };
+    assert!(
+        message.starts_with("/nonexistent/cooperation.param.yaml: "),
+        "{message}"
+    );
+}

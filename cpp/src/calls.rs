@@ -31,13 +31,12 @@ impl Core {
     /// The settings' or the core's refusal of the configuration (the built-in file is valid, so
     /// neither happens).
     pub fn new(quota: usize) -> Result<Self, String> {
-        let config = cooperation_adapters::settings::load(None)?;
         let options = engine::Options {
             scene_quota: quota,
             ..engine::Options::default()
         };
         Ok(Self {
-            shared: Shared::new(Engine::new(config, options).map_err(|e| e.to_string())?),
+            shared: Shared::new(Engine::from_settings(None, options).map_err(|e| e.to_string())?),
         })
     }
 

@@ -236,7 +236,7 @@ fn main() {
         publish_every: Duration::from_secs(3600),
         ..Options::default()
     };
-    let mut node = Node::new(config.clone(), options).expect("the node");
+    let mut node = Node::new(None, options).expect("the node");
     node.shared().update(register);
     let stop = Arc::new(AtomicBool::new(false));
     let running = {

@@ -82,7 +82,6 @@ fn run(args: Args) -> Result<(), String> {
             args.namespace
         ));
     }
-    let config = cooperation_adapters::settings::load(args.settings.as_deref())?;
     let options = Options {
         domain: args.domain,
         interfaces: args.interfaces,
@@ -109,7 +108,7 @@ fn run(args: Args) -> Result<(), String> {
     );
     if args.stack {
         let deadline = Duration::from_millis(args.deadline_ms);
-        let mut stack = Stack::new(config, options.clone(), deadline)?;
+        let mut stack = Stack::new(args.settings.as_deref(), options.clone(), deadline)?;
         tracing::info!(
             "serving node {name} on DDS domain {} (ROS 2 {:?}) in the stack mode: the AD API over \
              the RTC interfaces {}",
@@ -121,7 +120,7 @@ fn run(args: Args) -> Result<(), String> {
         tracing::info!("shutting down");
         return Ok(());
     }
-    let mut node = Node::new(config, options.clone())?;
+    let mut node = Node::new(args.settings.as_deref(), options.clone())?;
     tracing::info!(
         "serving node {name} on DDS domain {} (ROS 2 {:?}, Cyclone DDS's service mapping)",
         options.domain,

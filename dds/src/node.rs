@@ -8,11 +8,11 @@
 //! after a change they show.
 
 use std::net::IpAddr;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use cooperation::Config;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::Endpoint;
 use cooperation_adapters::engine::{self, Engine};
@@ -97,12 +97,15 @@ impl core::fmt::Debug for Node {
 }
 
 impl Node {
-    /// A node over a new core with `config`, its DDS participant joined to the domain.
+    /// A node over a new engine built from the settings file at `settings` (the built-in
+    /// settings for `None`) and `options` ([`Engine::from_settings`]), its DDS participant
+    /// joined to the domain.
     ///
     /// # Errors
-    /// The core's refusal of the configuration, or what DDS could not create.
-    pub fn new(config: Config, options: Options) -> Result<Self, String> {
-        let engine = Engine::new(config, options.engine()).map_err(|error| error.to_string())?;
+    /// The settings' or the core's refusal of the configuration, or what DDS could not create.
+    pub fn new(settings: Option<&Path>, options: Options) -> Result<Self, String> {
+        let engine =
+            Engine::from_settings(settings, options.engine()).map_err(|error| error.to_string())?;
         Self::with_shared(Arc::new(Shared::new(engine)), Clock::start(), options)
     }
 

@@ -11,7 +11,6 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use cooperation::Config;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
 use cooperation_adapters::engine::{Engine, Now, Reply, Request};
@@ -156,14 +155,20 @@ impl core::fmt::Debug for Stack {
 }
 
 impl Stack {
-    /// A stack node over a new core with `config`: the AD API's services and factor topics, and
-    /// the endpoints of every RTC interface the core binds, each module given `deadline` to
-    /// answer.
+    /// A stack node over a new engine built from the settings file at `settings` (the built-in
+    /// settings for `None`) and `options` ([`Engine::from_settings`]): the AD API's services
+    /// and factor topics, and the endpoints of every RTC interface the core binds, each module
+    /// given `deadline` to answer.
     ///
     /// # Errors
-    /// The core's refusal of the configuration, or what DDS could not create.
-    pub fn new(config: Config, options: Options, deadline: Duration) -> Result<Self, String> {
-        let engine = Engine::new(config, options.engine()).map_err(|error| error.to_string())?;
+    /// The settings' or the core's refusal of the configuration, or what DDS could not create.
+    pub fn new(
+        settings: Option<&std::path::Path>,
+        options: Options,
+        deadline: Duration,
+    ) -> Result<Self, String> {
+        let engine =
+            Engine::from_settings(settings, options.engine()).map_err(|error| error.to_string())?;
         let relay = Relay::new(
             engine,
             u64::try_from(deadline.as_millis()).unwrap_or(u64::MAX),

@@ -97,7 +97,14 @@ async fn main() -> ExitCode {
 async fn run(args: Args) -> Result<(), String> {
     let publish_every = cooperation_adapters::engine::publish_every(args.rate)
         .map_err(|error| format!("--rate {}: {error}", args.rate))?;
-    let config = cooperation_adapters::settings::load(args.settings.as_deref())?;
+    let node = Node::from_settings(
+        args.settings.as_deref(),
+        cooperation_adapters::engine::Options {
+            scene_quota: args.scene_quota,
+            ..cooperation_adapters::engine::Options::default()
+        },
+    )
+    .map_err(|error| error.to_string())?;
     let credentials = match &args.credentials {
         Some(path) => {
             let text = cooperation_server::auth::read_file(path)?;
@@ -118,8 +125,6 @@ async fn run(args: Args) -> Result<(), String> {
             args.listen
         ));
     }
-    let node =
-        Node::with_scene_quota(config, args.scene_quota).map_err(|error| error.to_string())?;
     let options = Options {
         publish_every,
         max_clients: args.max_clients,

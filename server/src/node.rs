@@ -152,6 +152,19 @@ impl Node {
         )
     }
 
+    /// A node over a new engine built from the settings file at `settings` (the built-in
+    /// settings for `None`) and `options` ([`Engine::from_settings`]).
+    ///
+    /// # Errors
+    /// The settings' or the engine's refusal of the configuration ([`EngineError`]).
+    pub fn from_settings(
+        settings: Option<&std::path::Path>,
+        options: engine::Options,
+    ) -> Result<Self, EngineError> {
+        let shared = Arc::new(Shared::new(Engine::from_settings(settings, options)?));
+        Ok(Self::with_shared(shared, Clock::start()))
+    }
+
     /// A node over a new engine with `config` and `options`.
     ///
     /// # Errors

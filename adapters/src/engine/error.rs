@@ -7,6 +7,8 @@ use cooperation::ConfigError;
 /// A configuration the engine refuses, before it serves anything.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub enum EngineError {
+    /// The settings file cannot be read or parsed: what went wrong, naming the file.
+    Settings(String),
     /// The core refuses the configuration.
     Config(ConfigError),
     /// The interfaces' scene quotas together exceed the core's table (`[COOP-DEV-QUOTA.1]`):
@@ -28,6 +30,7 @@ pub enum EngineError {
 impl fmt::Display for EngineError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::Settings(message) => f.write_str(message),
             Self::Config(error) => error.fmt(f),
             Self::QuotaOverTable {
                 quota,

@@ -24,7 +24,7 @@
 //! use cooperation_adapters::wire::Service;
 //! use cooperation_adapters::Time;
 //!
-//! let mut engine = Engine::new(cooperation_adapters::settings::load(None)?, Options::default())?;
+//! let mut engine = Engine::from_settings(None, Options::default())?;
 //! let now = Now::new(0, Time::new(100, 0));
 //! let request = Endpoint::Ad(Service::GetPolicies).read_json(b"{}");
 //! let handled = engine.handle(request, now);
@@ -179,6 +179,21 @@ impl Engine {
     /// ([`EngineError::QuotaOverTable`]).
     pub fn new(config: Config, options: Options) -> Result<Self, EngineError> {
         Self::from_state(State::new(config)?, options)
+    }
+
+    /// An engine over a new core configured by the settings file at `settings` (the built-in
+    /// settings, [`settings::BUILT_IN`](crate::settings::BUILT_IN), for `None`), the standard
+    /// RTC interfaces and `options`: how every host builds its engine.
+    ///
+    /// # Errors
+    /// A settings file that cannot be read or parsed ([`EngineError::Settings`], naming the
+    /// file); otherwise as [`Engine::new`].
+    pub fn from_settings(
+        settings: Option<&std::path::Path>,
+        options: Options,
+    ) -> Result<Self, EngineError> {
+        let config = crate::settings::load(settings).map_err(EngineError::Settings)?;
+        Self::new(config, options)
     }
 
     /// An engine over `state` (a core a planner built and fed itself), the standard RTC
