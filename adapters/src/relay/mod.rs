@@ -41,7 +41,7 @@ use crate::rtc::{
     CooperateCommandsResponse, CooperateStatusArray, RtcError, StatusReport,
 };
 use crate::wire::{self, ResponseStatus};
-use crate::Host;
+use crate::{Host, Time};
 use pending::{Outcome, Part, Pending};
 
 /// How long a module has to answer a forwarded call unless the host says otherwise, in
@@ -708,6 +708,8 @@ impl Hash for Relay {
         let rtc = self.engine.host().rtc();
         state.hash(hasher);
         self.engine.host().told_ms().hash(hasher);
+        // The reading the core was last told of: the next step of the clock counts from it.
+        self.engine.told(Time::default()).reading_ns.hash(hasher);
         for id in state
             .scenes()
             .map(|(id, _)| id)
