@@ -240,8 +240,8 @@ impl Credentials {
     ///
     /// # Errors
     /// Why the request is not let in: it presents no token, or one that is no credential's.
-    pub fn identify(&self, headers: &HeaderMap, uri: &Uri) -> Result<usize, &'static str> {
-        let token = presented(headers, uri).ok_or("no credential presented")?;
+    pub fn identify(&self, headers: &HeaderMap, uri: &Uri) -> Result<usize, Unidentified> {
+        let token = presented(headers, uri).ok_or(Unidentified::NonePresented)?;
         // Every credential is compared, each in time independent of where they differ.
         let mut found = None;
         for (index, credential) in self.list.iter().enumerate() {
@@ -249,7 +249,27 @@ impl Credentials {
                 found = Some(index);
             }
         }
-        found.ok_or("a credential the node does not have")
+        found.ok_or(Unidentified::Unknown)
+    }
+}
+
+/// Why a request is not let in with a credential.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Unidentified {
+    /// It presents no token.
+    NonePresented,
+    /// It presents a token that is no credential's: a guess ([`crate::guesses`]).
+    Unknown,
+}
+
+impl Unidentified {
+    /// The reason, as the refusal says it.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::NonePresented => "no credential presented",
+            Self::Unknown => "a credential the node does not have",
+        }
     }
 }
 
@@ -395,7 +415,7 @@ mod tests {
         let uri: Uri = "/".parse().expect("a URI");
         assert_eq!(
             credentials.identify(&headers, &uri),
-            Err("no credential presented")
+            Err(Unidentified::NonePresented)
         );
         let with_query: Uri = format!("/?x=1&token={TOKEN}").parse().expect("a URI");
         assert_eq!(credentials.identify(&headers, &with_query), Ok(0));
@@ -408,7 +428,10 @@ mod tests {
             header::AUTHORIZATION,
             format!("Bearer {TOKEN}x").parse().expect("a header"),
         );
-        assert!(credentials.identify(&headers, &with_query).is_err());
+        assert_eq!(
+            credentials.identify(&headers, &with_query),
+            Err(Unidentified::Unknown)
+        );
         assert!(!format!("{credentials:?}").contains(TOKEN));
     }
 }

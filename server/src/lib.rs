@@ -18,6 +18,7 @@ pub mod access;
 pub mod auth;
 pub mod connection;
 pub mod front;
+pub mod guesses;
 pub mod node;
 mod panel;
 mod refusals;
@@ -44,6 +45,7 @@ pub use access::Access;
 pub use auth::{Credentials, Grant};
 pub use connection::Limits;
 pub use front::Admission;
+pub use guesses::GuessLimits;
 pub use node::{Node, Topic};
 
 /// How the node runs.
@@ -62,6 +64,8 @@ pub struct Options {
     pub credentials: Option<Credentials>,
     /// The limits on connections before they become WebSockets ([`front`]).
     pub admission: Admission,
+    /// The limits on token guesses ([`guesses`]).
+    pub guesses: GuessLimits,
     /// Each connection's limits.
     pub limits: Limits,
     /// The origins and host names accepted besides the node's own ([`access`]).
@@ -76,6 +80,7 @@ impl Default for Options {
             max_clients: 256,
             credentials: None,
             admission: Admission::default(),
+            guesses: GuessLimits::default(),
             limits: Limits::default(),
             access: Access::default(),
         }
@@ -92,6 +97,7 @@ struct App {
     limits: Limits,
     access: Arc<Access>,
     refusals: Arc<refusals::Refusals>,
+    guesses: Arc<guesses::Guesses>,
 }
 
 impl Options {
@@ -128,7 +134,7 @@ impl Options {
         if self.limits.hard_frame < self.limits.frame {
             return Some("the hard frame limit is below the frame limit".to_owned());
         }
-        self.admission.problem()
+        self.admission.problem().or_else(|| self.guesses.problem())
     }
 }
 
@@ -179,6 +185,7 @@ pub async fn serve(
         limits: options.limits,
         access: Arc::new(options.access),
         refusals: Arc::clone(&refusals),
+        guesses: Arc::new(guesses::Guesses::new(options.guesses)),
     };
     let router = Router::new()
         .route("/", get(root))
@@ -258,9 +265,36 @@ async fn root(
     let address = peer
         .as_ref()
         .map_or_else(|| "unknown".to_owned(), |peer| peer.address.to_string());
+    let ip = peer.as_ref().map(|peer| peer.address.ip());
+    let now = std::time::Instant::now();
+    let locked = ip.and_then(|ip| app.guesses.locked(ip, now));
+    if let (Some(left), true) = (locked, app.credentials.is_some()) {
+        let why = format!(
+            "too many credentials the node does not have from this address: try again in {} s",
+            whole_seconds(left)
+        );
+        app.refusals
+            .log(&address, &format!("a client refused: {why}"));
+        let mut response = (StatusCode::TOO_MANY_REQUESTS, why).into_response();
+        if let Ok(value) = HeaderValue::from_str(&whole_seconds(left).to_string()) {
+            response.headers_mut().insert(header::RETRY_AFTER, value);
+        }
+        return response;
+    }
     let admitted = match admit(&app, &headers, &uri) {
         Ok(admitted) => admitted,
-        Err((status, why)) => {
+        Err((status, why, guess)) => {
+            let lockout = guess
+                .then_some(ip)
+                .flatten()
+                .and_then(|ip| app.guesses.guessed(ip, now));
+            let why = match lockout {
+                Some(lockout) => format!(
+                    "{why}; too many from this address: locked out for {} s",
+                    whole_seconds(lockout)
+                ),
+                None => why,
+            };
             app.refusals
                 .log(&address, &format!("a client refused: {why}"));
             let mut response = (status, why).into_response();
@@ -273,6 +307,9 @@ async fn root(
         }
     };
     let (grant, permit) = admitted;
+    if let (Grant::Credential(_), Some(ip)) = (&grant, ip) {
+        app.guesses.identified(ip);
+    }
     // A WebSocket without a credential counts against its address for as long as it is open.
     let seat = matches!(grant, Grant::Anyone)
         .then(|| peer.map(|peer| Arc::clone(&peer.seat)))
@@ -291,30 +328,41 @@ async fn root(
         })
 }
 
-/// What a WebSocket upgrade is let in with: its grant and its place; or the HTTP status and
-/// the reason it is refused.
+/// A lockout or the time left of one, in whole seconds, rounded up.
+fn whole_seconds(time: Duration) -> u64 {
+    time.as_secs() + u64::from(time.subsec_nanos() > 0)
+}
+
+/// What a WebSocket upgrade is let in with: its grant and its place; or the HTTP status, the
+/// reason it is refused, and whether it presented a credential the node does not have.
 fn admit(
     app: &App,
     headers: &HeaderMap,
     uri: &Uri,
-) -> Result<(Grant, tokio::sync::OwnedSemaphorePermit), (StatusCode, String)> {
+) -> Result<(Grant, tokio::sync::OwnedSemaphorePermit), (StatusCode, String, bool)> {
     let Some(credentials) = &app.credentials else {
         let permit = Arc::clone(&app.clients).try_acquire_owned().map_err(|_| {
             (
                 StatusCode::SERVICE_UNAVAILABLE,
                 "this node serves as many clients as it may; try again later".to_owned(),
+                false,
             )
         })?;
         return Ok((Grant::Anyone, permit));
     };
-    let index = credentials
-        .identify(headers, uri)
-        .map_err(|why| (StatusCode::UNAUTHORIZED, why.to_owned()))?;
+    let index = credentials.identify(headers, uri).map_err(|why| {
+        (
+            StatusCode::UNAUTHORIZED,
+            why.as_str().to_owned(),
+            why == auth::Unidentified::Unknown,
+        )
+    })?;
     let (Some(credential), Some(places)) = (credentials.list().get(index), app.places.get(index))
     else {
         return Err((
             StatusCode::INTERNAL_SERVER_ERROR,
             "no such credential".to_owned(),
+            false,
         ));
     };
     let permit = Arc::clone(places).try_acquire_owned().map_err(|_| {
@@ -324,6 +372,7 @@ fn admit(
                 "credential {:?} has {} connections open, the most it may have",
                 credential.name, credentials.places
             ),
+            false,
         )
     })?;
     Ok((Grant::Credential(credential.clone()), permit))

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use std::time::Duration;
 
 use common::{serve, serve_quota, status, Client};
-use cooperation_server::{Admission, Credentials, Limits, Options};
+use cooperation_server::{Admission, Credentials, GuessLimits, Limits, Options};
 use serde_json::json;
 use tokio::io::AsyncReadExt;
 use tokio::net::TcpStream;
@@ -218,8 +218,10 @@ async fn knock(at: &str, from: &str) -> String {
         .to_owned()
 }
 
-/// A client guessing tokens does not fill the log: of a burst of 40 refused clients, the first
-/// of each period is logged whole and the rest summed up in one line at the period's end.
+/// A client guessing tokens does not fill the log: of a burst of 40 refused clients (5 wrong
+/// tokens answered 401, then 35 upgrades refused while the address is locked out for them),
+/// the first of each period is logged whole and the rest summed up in one line at the period's
+/// end.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_burst_of_refused_clients_is_summed_up_not_logged_one_by_one() {
     log();
@@ -235,14 +237,24 @@ async fn a_burst_of_refused_clients_is_summed_up_not_logged_one_by_one() {
             refusal_log_every: Duration::from_secs(1),
             ..Admission::default()
         },
+        guesses: GuessLimits {
+            lockout: Duration::from_secs(60),
+            ..GuessLimits::default()
+        },
         ..Options::default()
     })
     .await;
     let at = address(&served.url);
-    for _ in 0..40 {
+    for _ in 0..5 {
         assert_eq!(knock(&at, "127.0.0.77").await, "HTTP/1.1 401 Unauthorized");
     }
-    logged("refused since the last refusal logged, from 1 address(es), 127.0.0.77; the last: a client refused: a credential the node does not have").await;
+    for _ in 0..35 {
+        assert_eq!(
+            knock(&at, "127.0.0.77").await,
+            "HTTP/1.1 429 Too Many Requests"
+        );
+    }
+    logged("refused since the last refusal logged, from 1 address(es), 127.0.0.77; the last: a client refused: too many credentials the node does not have from this address: try again in 60 s").await;
     let text =
         String::from_utf8_lossy(&log().lock().unwrap_or_else(PoisonError::into_inner)).into_owned();
     let whole = text

@@ -9,6 +9,7 @@ mod common;
 mod definitions;
 mod faults;
 mod frames;
+mod guesses;
 mod limits;
 mod load;
 mod protocol;
