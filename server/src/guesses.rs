@@ -17,6 +17,8 @@ use std::net::IpAddr;
 use std::sync::{Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
+use crate::prefix::Prefix;
+
 /// How token guesses are limited.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct GuessLimits {
@@ -55,29 +57,6 @@ impl GuessLimits {
             return Some("no address prefix recorded".to_owned());
         }
         None
-    }
-}
-
-/// An address prefix: an IPv4 address, or an IPv6 address's first 64 bits (an IPv4-mapped
-/// IPv6 address counts as its IPv4 address).
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
-enum Prefix {
-    V4([u8; 4]),
-    V6([u16; 4]),
-}
-
-impl Prefix {
-    fn of(ip: IpAddr) -> Self {
-        match ip {
-            IpAddr::V4(v4) => Self::V4(v4.octets()),
-            IpAddr::V6(v6) => match v6.to_ipv4_mapped() {
-                Some(v4) => Self::V4(v4.octets()),
-                None => {
-                    let [a, b, c, d, ..] = v6.segments();
-                    Self::V6([a, b, c, d])
-                }
-            },
-        }
     }
 }
 

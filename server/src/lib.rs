@@ -21,6 +21,7 @@ pub mod front;
 pub mod guesses;
 pub mod node;
 mod panel;
+mod prefix;
 mod refusals;
 pub mod rosapi;
 pub mod rosbridge;

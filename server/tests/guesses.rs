@@ -15,7 +15,7 @@ const LOCKOUT: Duration = Duration::from_millis(400);
 
 /// A WebSocket upgrade from `source` presenting `bearer`: let in, or refused with the HTTP
 /// status and its `Retry-After`.
-async fn connect_from(
+pub(crate) async fn connect_from(
     url: &str,
     source: &str,
     bearer: Option<&str>,

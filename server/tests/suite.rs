@@ -9,6 +9,7 @@ mod common;
 mod definitions;
 mod faults;
 mod frames;
+mod front_door;
 mod guesses;
 mod limits;
 mod load;
