@@ -398,6 +398,13 @@ impl Engine {
         }
     }
 
+    /// The reading of the last publication, in whole milliseconds of the host's clock (`None`
+    /// before the first): with the interval, what decides when the next periodic one is due.
+    #[must_use]
+    pub const fn last_publication_ms(&self) -> Option<i64> {
+        self.published_ms
+    }
+
     /// Milliseconds from `now` until the next periodic publication is due (0 if it is): the
     /// publication interval after the last publication's reading; at once before the first, and
     /// when `now` reads earlier than the last (a clock that went back: its stamps would go back

@@ -268,7 +268,7 @@ pub const ENGINE_REWINDS: Pin = Pin {
     model: "engine, clock going back",
     bounds: "2 ids, 3 ms, back 1 ms once",
     search: "BFS",
-    unique: 2_548_614,
+    unique: 3_131_344,
     generated: None,
 };
 

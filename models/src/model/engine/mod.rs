@@ -119,6 +119,8 @@ pub struct EngineStep {
     pub published: Option<Vec<u8>>,
     /// The clock has gone back ([`EngineBounds::rewinds`]).
     pub went_back: bool,
+    /// The clock can go back ([`EngineBounds::rewinds`]; the same in every state of a run).
+    pub rewinds: bool,
     /// Sticky flags of broken step properties ([`broken`]).
     pub broken: u8,
 }
@@ -140,6 +142,19 @@ impl Hash for EngineStep {
         engine.told(Time::default()).reading_ns.hash(state);
         engine.until_publication_ms(self.now()).hash(state);
         engine.publication_due(self.now()).hash(state);
+        // On a clock that only moves forward, the time left until the next periodic
+        // publication at the reading now decides every later one. On a clock that can go back,
+        // two last publications can leave the same time left now and differ once the clock
+        // reads earlier than one of them: the reading itself is hashed, and whether a change
+        // waits to be published.
+        if let (true, Some(published_ms)) = (self.rewinds, engine.last_publication_ms()) {
+            published_ms.hash(state);
+            // Whether a change waits to be published, which no reading's time left tells
+            // apart from an interval run out once the clock can go back: asked at the last
+            // publication's own reading, the interval has not run.
+            let at = now_at(u64::try_from(published_ms).unwrap_or(0));
+            engine.publication_due(at).hash(state);
+        }
         self.clock_ms.hash(state);
         self.reported_ms.hash(state);
         self.read_ms.hash(state);
@@ -447,6 +462,7 @@ impl Model for EngineModel {
             reported_core_ms: vec![None; self.ids.len()],
             published: None,
             went_back: false,
+            rewinds: self.bounds.rewinds,
             broken: 0,
         }]
     }
