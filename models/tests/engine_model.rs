@@ -143,5 +143,11 @@ fn a_clock_that_goes_back_counts_on_from_its_reading() {
             .focus(engine::TIME),
     );
     assert_eq!(stalled, vec![engine::TIME], "BackStalls");
+    let (held, _) = failing(
+        rewinding()
+            .with_fault(EngineFault::BackHoldsPublications)
+            .focus(engine::PERIODIC),
+    );
+    assert_eq!(held, vec![engine::PERIODIC], "BackHoldsPublications");
     assert_eq!(unique, pins::ENGINE_REWINDS.unique);
 }

@@ -42,11 +42,15 @@ pub enum EngineFault {
     /// (`[COOP-ENGINE-STEP.1]` not applied to a clock that went back): with
     /// [`EngineBounds::rewinds`], time stalls for the core after the clock goes back.
     BackStalls,
+    /// A periodic publication waits for the clock to pass the last one's reading again when
+    /// the clock went back before it (the engine before `[COOP-ENGINE-PUBLISH.1]` said
+    /// otherwise): with [`EngineBounds::rewinds`], the host is asked at that reading.
+    BackHoldsPublications,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 13] = [
+    pub const ALL: [Self; 14] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -60,6 +64,7 @@ impl EngineFault {
         Self::PoliciesReversed,
         Self::ScenesShowModuleDecision,
         Self::BackStalls,
+        Self::BackHoldsPublications,
     ];
 }
 

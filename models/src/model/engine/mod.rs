@@ -16,15 +16,17 @@
 mod answers;
 mod config;
 mod properties;
+mod step;
 mod written;
 
 pub use config::{EngineBounds, EngineFault, JUMP_STEP_MS};
 pub use properties::{
-    properties, ANSWER, HINTED, LIFETIME, MESSAGES, POLICIES, PUBLISH, SCENES, STEP, TIME,
+    properties, ANSWER, HINTED, LIFETIME, MESSAGES, PERIODIC, POLICIES, PUBLISH, SCENES, STEP, TIME,
 };
+pub use step::{content, now_at, EngineStep};
 pub use written::written;
 
-use std::hash::{Hash, Hasher};
+use std::hash::Hash;
 
 use cooperation::{
     Behavior, Command, Config, Input, Limits, Module, OperatorDecision, Policy, PolicySetting,
@@ -33,11 +35,11 @@ use cooperation::{
 use cooperation_adapters::engine::{self, Engine, Now, Reply, Request};
 use cooperation_adapters::rtc::{self, CooperateStatus};
 use cooperation_adapters::sync::{SyncRequest, SyncStatus};
-use cooperation_adapters::{wire, Time};
+use cooperation_adapters::wire;
 
 use crate::model::spec;
 use serde::{Deserialize, Serialize};
-use stateright::{Model, Property, Representative};
+use stateright::{Model, Property};
 
 /// The steering module: a lane change, reported through `lane_change_left`.
 const STEERING: (Module, &str) = (Module::new(Behavior::LaneChange), "lane_change_left");
@@ -95,120 +97,6 @@ pub mod broken {
     pub const ANSWER: u8 = 2;
     /// A call changed what the streams show without asking for a publication.
     pub const UNHINTED: u8 = 4;
-}
-
-/// A state of the engine model.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct EngineStep {
-    /// The engine.
-    pub engine: Engine,
-    /// The clock's reading, in milliseconds.
-    pub clock_ms: u64,
-    /// When each identifier's scene was last reported, accepted, until it was removed (history
-    /// annotation).
-    pub reported_ms: Vec<Option<u64>>,
-    /// The latest reading the core should have been told of, by the rule's own count (history
-    /// annotation): every call but a publication poll tells the core its reading.
-    pub read_ms: u64,
-    /// The core's time by the rule's own count: each step from [`read_ms`](Self::read_ms) counts
-    /// at most the step limit (`[COOP-ENGINE-STEP.1]`; history annotation).
-    pub core_ms: u64,
-    /// [`reported_ms`](Self::reported_ms) in the core's time ([`core_ms`](Self::core_ms)).
-    pub reported_core_ms: Vec<Option<u64>>,
-    /// What the last publication carried ([`content`]); `None` before the first.
-    pub published: Option<Vec<u8>>,
-    /// The clock has gone back ([`EngineBounds::rewinds`]).
-    pub went_back: bool,
-    /// The clock can go back ([`EngineBounds::rewinds`]; the same in every state of a run).
-    pub rewinds: bool,
-    /// Sticky flags of broken step properties ([`broken`]).
-    pub broken: u8,
-}
-
-impl Hash for EngineStep {
-    /// Everything but the engine's revision counter, which only labels publications and grows
-    /// with every change: two states that differ in it alone behave alike.
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        let engine = &self.engine;
-        engine.state().hash(state);
-        // Each identifier's route: the model's retired capacity covers every identifier, so the
-        // core forgets none and the routes are exactly these.
-        for n in 1..=4u128 {
-            let id = SceneId::from_u128(n);
-            let owner = engine.host().rtc().owner(engine.state(), id);
-            owner.map(|binding| binding.name.as_str()).hash(state);
-        }
-        engine.host().told_ms().hash(state);
-        engine.told(Time::default()).reading_ns.hash(state);
-        engine.until_publication_ms(self.now()).hash(state);
-        engine.publication_due(self.now()).hash(state);
-        // On a clock that only moves forward, the time left until the next periodic
-        // publication at the reading now decides every later one. On a clock that can go back,
-        // two last publications can leave the same time left now and differ once the clock
-        // reads earlier than one of them: the reading itself is hashed, and whether a change
-        // waits to be published.
-        if let (true, Some(published_ms)) = (self.rewinds, engine.last_publication_ms()) {
-            published_ms.hash(state);
-            // Whether a change waits to be published, which no reading's time left tells
-            // apart from an interval run out once the clock can go back: asked at the last
-            // publication's own reading, the interval has not run.
-            let at = now_at(u64::try_from(published_ms).unwrap_or(0));
-            engine.publication_due(at).hash(state);
-        }
-        self.clock_ms.hash(state);
-        self.reported_ms.hash(state);
-        self.read_ms.hash(state);
-        self.core_ms.hash(state);
-        self.reported_core_ms.hash(state);
-        self.published.hash(state);
-        self.went_back.hash(state);
-        self.broken.hash(state);
-    }
-}
-
-impl Representative for EngineStep {
-    /// No reduction.
-    fn representative(&self) -> Self {
-        self.clone()
-    }
-}
-
-impl EngineStep {
-    /// The clock's reading as the engine takes it.
-    #[must_use]
-    pub fn now(&self) -> Now {
-        now_at(self.clock_ms)
-    }
-}
-
-/// The reading of `ms`, its stamp that many milliseconds after the epoch.
-#[must_use]
-pub fn now_at(ms: u64) -> Now {
-    let ns = i64::try_from(ms)
-        .unwrap_or(i64::MAX)
-        .saturating_mul(1_000_000);
-    Now::new(
-        ns,
-        Time::new(
-            i32::try_from(ms / 1000).unwrap_or(i32::MAX),
-            u32::try_from((ms % 1000) * 1_000_000).unwrap_or(0),
-        ),
-    )
-}
-
-/// What the streams carry of `state`, short of stamps and ages: the two factor lists and the
-/// scenes, as the doors write them.
-#[must_use]
-pub fn content(state: &State) -> Vec<u8> {
-    let stamp = Time::default();
-    let mut scenes = engine::scenes::scene_array(state, stamp);
-    for scene in &mut scenes.scenes {
-        scene.age_ms = 0;
-    }
-    let mut bytes = wire::to_json(&wire::velocity_factors(state, stamp).factors);
-    bytes.extend(wire::to_json(&wire::steering_factors(state, stamp).factors));
-    bytes.extend(wire::to_json(&scenes.scenes));
-    bytes
 }
 
 /// The engine model.
@@ -360,6 +248,28 @@ impl EngineModel {
         next.read_ms = next.clock_ms;
     }
 
+    /// The reading the host polls for a publication at in `state`: the clock's, unless
+    /// [`EngineFault::BackHoldsPublications`] has it the last publication's while the clock
+    /// reads earlier.
+    fn polled_at(&self, state: &EngineStep) -> Now {
+        let now = state.now();
+        match (self.fault, state.engine.last_publication_ms()) {
+            (Some(EngineFault::BackHoldsPublications), Some(published_ms))
+                if now.reading_ns < published_ms.saturating_mul(1_000_000) =>
+            {
+                now_at(u64::try_from(published_ms).unwrap_or(0))
+            }
+            _ => now,
+        }
+    }
+
+    /// Whether the host finds a publication due in `state`: asked at the clock's reading, or
+    /// through a planted fault.
+    #[must_use]
+    pub fn due(&self, state: &EngineStep) -> bool {
+        state.engine.publication_due(self.polled_at(state))
+    }
+
     /// The reading a call at `now` tells `engine`: `now`, unless [`EngineFault::BackStalls`]
     /// has it ignore a reading earlier than the last it was told.
     fn reading(&self, engine: &Engine, now: Now) -> Now {
@@ -461,6 +371,7 @@ impl Model for EngineModel {
             core_ms: 0,
             reported_core_ms: vec![None; self.ids.len()],
             published: None,
+            published_at_ms: None,
             went_back: false,
             rewinds: self.bounds.rewinds,
             broken: 0,
@@ -475,7 +386,7 @@ impl Model for EngineModel {
             actions.push(EngineAction::Back);
         }
         actions.push(EngineAction::Tick);
-        if !self.bounds.geometry && state.engine.publication_due(state.now()) {
+        if !self.bounds.geometry && self.due(state) {
             actions.push(EngineAction::Publish);
         }
         let starts = if self.bounds.geometry {
@@ -521,8 +432,9 @@ impl Model for EngineModel {
                 unhinted(&mut next, &before, change);
             }
             EngineAction::Publish => {
-                next.engine.poll_publication(now)?;
+                next.engine.poll_publication(self.polled_at(last))?;
                 next.published = Some(content(next.engine.state()));
+                next.published_at_ms = Some(last.clock_ms);
             }
             EngineAction::Report(id, safe, start) => {
                 let start = if self.bounds.geometry {

@@ -33,6 +33,8 @@ pub const POLICIES: &str = "COOP-POL-GET.2, COOP-API-STATUS.1 (engine): get_poli
 pub const SCENES: &str = "COOP-MERGE.1, COOP-REQUESTED.1 (engine): /cooperation/scenes shows each live scene's merged decision, policy and wait for an operator as the spec states them, in identifier order";
 /// `COOP-ENGINE-PUBLISH.1`'s other property.
 pub const HINTED: &str = "COOP-ENGINE-PUBLISH.1: a call that changes what the streams show asks for a publication at once";
+/// `COOP-ENGINE-PUBLISH.1`'s periodic property.
+pub const PERIODIC: &str = "COOP-ENGINE-PUBLISH.1: a publication is due once the interval has passed on the clock since the last, or the clock reads earlier than it";
 /// `COOP-ENGINE-PUBLISH.1`'s property.
 pub const PUBLISH: &str = "COOP-ENGINE-PUBLISH.1: whenever no publication is due, the last one shows what the state shows";
 /// `COOP-ENGINE-ANSWER.1`'s property.
@@ -105,6 +107,16 @@ fn published_shows_state(_: &EngineModel, state: &EngineStep) -> bool {
         || state.published.as_deref() == Some(content(state.engine.state()).as_slice())
 }
 
+/// A publication is due before the first, once the interval has passed on the clock since the
+/// last, and while the clock reads earlier than the last (it went back).
+fn periodic_due(model: &EngineModel, state: &EngineStep) -> bool {
+    let every = super::PUBLISH_EVERY_MS;
+    let owed = state.published_at_ms.map_or(true, |at| {
+        state.clock_ms < at || state.clock_ms - at >= every
+    });
+    !owed || model.due(state)
+}
+
 /// A scene is live and waiting while its time to live has passed on the clock, the core not yet
 /// told: the time a command could be applied late.
 fn stale_scene_awaits_tick(model: &EngineModel, state: &EngineStep) -> bool {
@@ -143,6 +155,7 @@ pub fn properties() -> Vec<Property<EngineModel>> {
         Property::always(LIFETIME, reported_scenes_live),
         Property::always(STEP, reported_scenes_live_in_core_time),
         Property::always(PUBLISH, published_shows_state),
+        Property::always(PERIODIC, periodic_due),
         Property::always(HINTED, unbroken::<{ broken::UNHINTED }>),
         Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
         Property::always(MESSAGES, messages_are_the_spec),
