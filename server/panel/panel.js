@@ -1,9 +1,14 @@
-// The operator panel: the scenes of both factor streams, nearest first, with the four operator
-// decisions, each scene's merged decision, age and whether it waits for the operator (from the
-// node's /cooperation/scenes); the modules' policies as switches; the node's answers, with a
-// history. Everything shown comes from the node: a decision or a policy is drawn from the next
-// publication or get_policies, never assumed from a click. Overriding a module that reports a
-// scene unsafe takes a second, confirming click.
+// The operator panel: the scenes of both factor streams, those waiting for the operator first
+// (counted in the header and the page's title, each saying why), then nearest first, with the
+// four operator decisions, each scene's merged decision, age and whether its module reports it
+// unsafe (from the node's /cooperation/scenes); the modules' policies as switches; the node's
+// answers, with a history. Everything shown comes from the node: a decision or a policy is
+// drawn from the next publication or get_policies, never assumed from a click. Overriding a
+// module that reports a scene unsafe takes a second, confirming click, and the row says so for
+// as long as the override stands; a policy switch takes a confirmation. While the pointer is
+// over the scenes, no row moves. Before connecting, the panel asks the node who its token
+// makes it (/whoami), so that a wrong token, a lockout, a full credential or a module's token
+// is said as such, and a module's token gets no operator controls.
 'use strict';
 
 (function () {
@@ -38,6 +43,7 @@
   const POLICY_REFRESH_MS = 5000;
 
   const $ = (id) => document.getElementById(id);
+  const TITLE = document.title;
   const rowsBody = $('scene-rows');
   const policyList = $('policies');
 
@@ -50,6 +56,7 @@
   const pendingScenes = new Set(); // uuid hex of scenes with a command in flight
   const pendingPolicies = new Set(); // policy keys with a setting in flight
   let policyRequest = 0; // the newest get_policies; older answers are dropped
+  let policyValues = new Map(); // policy key -> the policy get_policies last read
 
   // --- Small helpers --------------------------------------------------------------------------
 
@@ -122,33 +129,59 @@
     setText($('connection-text'), text);
   }
 
-  // A node with credentials lets the panel in with an operator's token, given in the page's
-  // address after `#token=` (the part after `#` never leaves the browser). It is read once and
-  // taken out of the address at once, so that it is not left in the address bar, the history
-  // or a screenshot; the tab keeps it (sessionStorage) so that a reload still connects.
-  const TOKEN_KEY = 'cooperation-panel-token';
-  function takeToken() {
-    const match = /(?:^#|&)token=([A-Za-z0-9._~-]+)/.exec(location.hash);
-    if (match) {
-      try { sessionStorage.setItem(TOKEN_KEY, match[1]); } catch (_) { /* storage off */ }
-      history.replaceState(null, '', location.pathname + location.search);
-      return match[1];
-    }
-    try { return sessionStorage.getItem(TOKEN_KEY); } catch (_) { return null; }
-  }
-  const givenToken = takeToken();
+  const givenToken = PanelAccess.takeToken();
+  // A token put in the address later (after a refusal, say) is read by loading the page again.
+  window.addEventListener('hashchange', () => {
+    if (PanelAccess.TOKEN.test(location.hash)) location.reload();
+  });
 
-  function connect() {
-    const given = givenToken;
-    const url = `ws://${location.host}/` + (given ? `?token=${given}` : '');
+  // What the node says the token makes this panel: `operator`, `module`, `anyone` (a node
+  // without credentials), or null before it has said.
+  let role = null;
+  const operates = () => role === 'operator' || role === 'anyone';
+
+  // Tries again after `delay` ms (or the next step of the backoff), saying why it is not
+  // connected.
+  function retry(text, delay) {
+    const wait = delay || reconnectDelay;
+    reconnectDelay = Math.min(reconnectDelay * 2, 5000);
+    showConnection('disconnected', `${text}; trying again in ${(wait / 1000).toFixed(1)} s`);
+    setTimeout(connect, wait);
+  }
+
+  // Asks the node who the token makes this panel first, and connects only if that can work.
+  async function connect() {
     showConnection('connecting', `Connecting to ${location.host}…`);
+    const next = PanelAccess.judge(await PanelAccess.whoami(givenToken), givenToken, location.host);
+    if (next.role) {
+      role = next.role;
+      document.body.dataset.role = next.role;
+    }
+    if (next.action === 'retry') {
+      retry(next.text, next.delay);
+    } else if (next.action === 'refused') {
+      showConnection('refused', next.text);
+      say('error', next.text);
+    } else {
+      open(next.answer);
+    }
+  }
+
+  function open(answer) {
+    const url = `ws://${location.host}/` + (givenToken ? `?token=${givenToken}` : '');
     const client = new ROSLIB.Ros({ url });
     ros = client;
     client.on('connection', () => {
       if (ros !== client) return;
       connected = true;
       reconnectDelay = 500;
-      showConnection('connected', `Connected to ${location.host}`);
+      const as = answer.role === 'module'
+        ? ` as planning module "${answer.credential}": read-only, no operator controls`
+        : answer.credential ? ` as operator "${answer.credential}"` : '';
+      showConnection('connected', `Connected to ${location.host}${as}`);
+      if (answer.role === 'module') {
+        say('warning', `This panel was opened with the token of planning module "${answer.credential}": it shows the scenes and policies, and cannot decide or switch anything. Open it with an operator's token to act.`);
+      }
       for (const kind of Object.keys(TOPIC)) {
         const [name, messageType] = TOPIC[kind];
         const topic = new ROSLIB.Topic({ ros: client, name, messageType });
@@ -182,14 +215,8 @@
       pendingPolicies.clear();
       renderScenes();
       renderPolicies(null);
-      const seconds = (reconnectDelay / 1000).toFixed(1);
-      const hint = given ? '' : ' (a node with credentials needs #token=… in this address)';
-      showConnection(
-        'disconnected',
-        `Not connected to ${location.host}${hint}; retrying in ${seconds} s`,
-      );
-      setTimeout(connect, reconnectDelay);
-      reconnectDelay = Math.min(reconnectDelay * 2, 5000);
+      // The next try asks the node again, which says why if it refuses.
+      retry(`Not connected to ${location.host}`);
     });
   }
 
@@ -230,7 +257,11 @@
 
   // --- Scenes ---------------------------------------------------------------------------------
 
-  // Both streams' scenes (factors with a cooperation status), nearest first.
+  // Whether the vehicle waits on the operator for a scene, by the node's /cooperation/scenes.
+  const waits = (uuid) => Boolean(sceneStates.get(uuid)?.awaits_operator);
+
+  // Both streams' scenes (factors with a cooperation status): those waiting for the operator
+  // first, then nearest first.
   function scenes() {
     const list = [];
     for (const kind of ['velocity', 'steering']) {
@@ -254,30 +285,59 @@
         });
       }
     }
-    list.sort((a, b) => sortKey(a.distances[0]) - sortKey(b.distances[0])
+    list.sort((a, b) => Number(waits(b.uuid)) - Number(waits(a.uuid))
+      || sortKey(a.distances[0]) - sortKey(b.distances[0])
       || sortKey(a.distances[1]) - sortKey(b.distances[1])
       || (a.uuid < b.uuid ? -1 : a.uuid > b.uuid ? 1 : 0));
     return list;
+  }
+
+  // A module that reports a scene unsafe decides to deactivate it.
+  const unsafe = (scene) => scene.autonomous === DECISION.DEACTIVATE;
+  // The operator activated a scene its module reports unsafe.
+  const overridden = (scene) => unsafe(scene) && scene.cooperator === DECISION.ACTIVATE;
+
+  // Why the vehicle waits on the operator for a scene.
+  function whyWaiting(scene, state) {
+    const why = [];
+    // The policy that applies is required when the module asks, whatever its module's policy:
+    // that one is read from get_policies.
+    const configured = policyValues.get(`${scene.behavior}/${scene.sequence}`);
+    if (configured === POLICY.REQUIRED || (state.policy === POLICY.REQUIRED && !state.requested)) why.push('policy required');
+    if (state.requested) why.push('its module asks');
+    if (unsafe(scene)) why.push('its module says unsafe');
+    return why.length ? why.join(', ') : 'no decision yet';
+  }
+
+  // A row's line of what matters most about its scene, and its kind.
+  function flags(scene, state) {
+    if (state && state.awaits_operator) return ['waiting', `Waiting for you: ${whyWaiting(scene, state)}`];
+    if (overridden(scene)) return ['override', 'Overridden by you: its module says unsafe'];
+    if (unsafe(scene)) return ['unsafe', 'Unsafe, its module says'];
+    return ['none', ''];
   }
 
   function newRow(scene) {
     const module = el('span', { class: 'module', 'data-col': 'module' });
     const sub = el('span', { class: 'sub', 'data-col': 'about' });
     const id = el('span', { class: 'sub uuid', 'data-col': 'uuid' });
-    const waiting = el('span', { class: 'waiting', 'data-col': 'waiting' });
+    const why = el('span', { class: 'flags', 'data-col': 'why' });
     const buttons = CHOICES.map(({ decision, label }) => {
-      const button = el('button', { type: 'button', 'data-decision': String(decision), 'aria-pressed': 'false' }, [label]);
+      // A button as wide as its confirming label, so that nothing moves when it appears.
+      const labels = [el('span', { class: 'label' }, [label])];
+      if (decision === DECISION.ACTIVATE) labels.push(el('span', { class: 'confirm-label' }, [`Confirm ${label.toLowerCase()}`]));
+      const button = el('button', { type: 'button', 'data-decision': String(decision), 'aria-pressed': 'false' }, labels);
       button.addEventListener('click', () => command(row, decision));
       return button;
     });
     const group = el('div', { class: 'decide', role: 'group' }, buttons);
     const row = el('tr', { 'data-uuid': scene.uuid, id: `scene-${scene.uuid}` }, [
-      el('td', { class: 'module-cell' }, [module, waiting, sub, id]),
+      el('td', { class: 'module-cell' }, [module, why, sub, id]),
       el('td', { class: 'distance', 'data-col': 'distance', 'data-label': 'Distance' }),
       el('td', { 'data-label': 'Module decision' }, [el('span', { class: 'badge', 'data-col': 'autonomous' })]),
       el('td', { 'data-label': 'Operator decision' }, [el('span', { class: 'badge', 'data-col': 'cooperator' })]),
       el('td', { 'data-label': 'Merged' }, [el('span', { class: 'badge', 'data-col': 'merged' })]),
-      el('td', { class: 'age', 'data-col': 'age', 'data-label': 'Reported' }),
+      el('td', { class: 'age', 'data-col': 'age', 'data-label': 'Since report' }),
       el('td', { 'data-col': 'cancellable', 'data-label': 'Cancellable' }),
       el('td', { class: 'decide-cell' }, [group]),
     ]);
@@ -288,6 +348,7 @@
     const cell = (name) => row.querySelector(`[data-col="${name}"]`);
     const name = moduleName(scene.behavior, scene.sequence);
     row.scene = scene;
+    setAttr(row, 'data-ended', 'false');
     setAttr(row, 'data-kind', scene.kind);
     setAttr(row, 'data-cancellable', String(scene.cancellable));
     setText(cell('module'), name);
@@ -300,19 +361,25 @@
     const merged = state && state.merged ? state.merged.decision : DECISION.UNKNOWN;
     setAttr(cell('merged'), 'data-decision', String(merged));
     setText(cell('merged'), state ? DECISION_NAME[merged] || String(merged) : '—');
-    const waiting = Boolean(state && state.awaits_operator);
-    setAttr(row, 'data-waiting', String(waiting));
-    setText(cell('waiting'), waiting ? (state.requested ? 'Waiting for you: the module asks' : 'Waiting for you') : '');
+    const [flag, line] = flags(scene, state);
+    setAttr(row, 'data-waiting', String(flag === 'waiting'));
+    setAttr(row, 'data-unsafe', String(unsafe(scene)));
+    setAttr(row, 'data-override', String(overridden(scene)));
+    setAttr(cell('why'), 'data-flag', flag);
+    setText(cell('why'), line);
+    setAttr(cell('why'), 'title', line);
     const age = state && typeof state.age_ms === 'number' ? state.age_ms : null;
     setAttr(row, 'data-stale', String(age !== null && age >= STALE_MS));
-    setText(cell('age'), age === null ? '—' : `${(age / 1000).toFixed(1)} s ago`);
+    setText(cell('age'), age === null ? '—' : `${(age / 1000).toFixed(1)} s`);
+    setAttr(cell('age'), 'title', age === null ? '' : `reported ${(age / 1000).toFixed(1)} s ago`);
     setText(cell('distance'), scene.distances.length > 1
-      ? `${metres(scene.distances[0])} → ${metres(scene.distances[1])}`
+      ? `${metres(scene.distances[0])}\n→ ${metres(scene.distances[1])}`
       : metres(scene.distances[0]));
     for (const col of ['autonomous', 'cooperator']) {
       const badge = cell(col);
       setAttr(badge, 'data-decision', String(scene[col]));
-      setText(badge, DECISION_NAME[scene[col]] || String(scene[col]));
+      const text = DECISION_NAME[scene[col]] || String(scene[col]);
+      setText(badge, text);
     }
     setText(cell('cancellable'), scene.cancellable ? 'yes' : 'no');
     const pending = pendingScenes.has(scene.uuid);
@@ -323,14 +390,32 @@
     for (const button of group.querySelectorAll('button')) {
       const decision = Number(button.dataset.decision);
       setAttr(button, 'aria-pressed', String(decision === scene.cooperator));
-      button.disabled = pending || !scene.cancellable;
+      button.disabled = pending || !scene.cancellable || !operates();
       const why = scene.cancellable ? '' : 'This scene is not cancellable: the node accepts no command for it now';
       setAttr(button, 'title', why);
-      const label = CHOICES.find((c) => c.decision === decision).label;
       setAttr(button, 'data-confirm', String(decision === confirming));
-      setText(button, decision === confirming ? `Confirm ${label.toLowerCase()}` : label);
     }
   }
+
+  // A row whose scene is no longer reported, kept in place while the pointer is over the
+  // scenes: its buttons off, and saying so.
+  function endRow(row) {
+    setAttr(row, 'data-ended', 'true');
+    setAttr(row, 'data-waiting', 'false');
+    const why = row.querySelector('[data-col="why"]');
+    setAttr(why, 'data-flag', 'ended');
+    setText(why, 'Ended: no longer reported');
+    for (const button of row.querySelectorAll('button')) button.disabled = true;
+  }
+
+  // The pointer is over the scenes: rows keep their places (new scenes are added at the end,
+  // ended ones stay, marked) until it leaves.
+  let held = false;
+  rowsBody.addEventListener('pointerenter', () => { held = true; });
+  rowsBody.addEventListener('pointerleave', () => {
+    held = false;
+    renderScenes();
+  });
 
   function renderScenes() {
     const list = scenes();
@@ -341,25 +426,34 @@
       if (!row) {
         row = newRow(scene);
         rows.set(scene.uuid, row);
+        if (held) rowsBody.append(row);
       }
       updateRow(row, scene);
-      // Moves only rows out of place, so a button under the pointer stays where it is.
-      if (rowsBody.children[index] !== row) rowsBody.insertBefore(row, rowsBody.children[index] || null);
+      // Moves only rows out of place, so that a row stays where it is while it can.
+      if (!held && rowsBody.children[index] !== row) rowsBody.insertBefore(row, rowsBody.children[index] || null);
     });
     for (const [uuid, row] of rows) {
-      if (!seen.has(uuid)) {
+      if (seen.has(uuid)) continue;
+      if (held) {
+        endRow(row);
+      } else {
         row.remove();
         rows.delete(uuid);
       }
     }
+    const waiting = list.filter((scene) => waits(scene.uuid)).length;
+    const count = $('waiting-count');
+    setAttr(count, 'data-count', String(waiting));
+    setText(count, waiting === 0 ? 'No scene waits for you'
+      : waiting === 1 ? '1 scene waits for you' : `${waiting} scenes wait for you`);
+    const title = waiting ? `(${waiting} waiting) ${TITLE}` : TITLE;
+    if (document.title !== title) document.title = title;
     $('no-scenes').hidden = list.length > 0;
     setText($('no-scenes'), connected ? 'No scene is reported.' : 'Not connected: no scenes to show.');
   }
 
   // Overriding a module that reports the scene unsafe takes a confirming second click.
-  function overridesUnsafe(scene, decision) {
-    return decision === DECISION.ACTIVATE && scene.autonomous === DECISION.DEACTIVATE;
-  }
+  const overridesUnsafe = (scene, decision) => decision === DECISION.ACTIVATE && unsafe(scene);
 
   function command(row, decision) {
     const scene = row.scene;
@@ -419,7 +513,12 @@
       type: 'checkbox', role: 'switch', id,
       'data-behavior': policy.behavior, 'data-sequence': policy.sequence || '',
     });
-    input.addEventListener('change', () => setPolicy(item, input.checked ? POLICY.REQUIRED : POLICY.OPTIONAL));
+    // A click asks for a confirmation first: the switch moves only when the node says so.
+    input.addEventListener('click', (event) => {
+      const wanted = input.checked ? POLICY.REQUIRED : POLICY.OPTIONAL;
+      event.preventDefault();
+      if (operates()) askPolicy(item, wanted);
+    });
     const label = el('label', { class: 'switch', for: id }, [
       input,
       el('span', { class: 'track', 'aria-hidden': 'true' }),
@@ -441,6 +540,7 @@
       return;
     }
     delete policyList.dataset.stale;
+    policyValues = new Map(policies.map((policy) => [policyKey(policy), policy.policy]));
     const items = new Map(Array.from(policyList.children, (item) => [item.dataset.policy, item]));
     policies.forEach((policy, index) => {
       const key = policyKey(policy);
@@ -452,13 +552,38 @@
       const required = policy.policy === POLICY.REQUIRED;
       const pending = pendingPolicies.has(key);
       if (!pending) input.checked = required;
-      input.disabled = pending;
+      input.disabled = pending || !operates();
       setAttr(item, 'data-value', required ? 'required' : 'optional');
       setText(item.querySelector('.state'), required ? 'required' : 'optional');
       if (policyList.children[index] !== item) policyList.insertBefore(item, policyList.children[index] || null);
     });
     for (const item of items.values()) item.remove();
   }
+
+  // The confirmation of a policy switch, in a modal dialog: nothing else can be clicked
+  // meanwhile, and nothing moves. Cancel is the default.
+  const dialog = $('policy-dialog');
+  let asked = null;
+  function askPolicy(item, value) {
+    const name = moduleName(item.policy.behavior, item.policy.sequence);
+    const required = value === POLICY.REQUIRED;
+    asked = { item, value };
+    setText($('policy-dialog-title'), `Make ${name} ${required ? 'required' : 'optional'}?`);
+    setText($('policy-dialog-text'), required
+      ? `Every scene of ${name}, those live now and those to come, will wait for an operator decision before the vehicle acts on it.`
+      : `${name}'s module will decide every scene of it that no operator has decided, those live now and those to come.`);
+    setText($('policy-dialog-confirm'), required ? 'Make required' : 'Make optional');
+    dialog.returnValue = '';
+    dialog.showModal();
+    $('policy-dialog-cancel').focus();
+  }
+  $('policy-dialog-cancel').addEventListener('click', () => dialog.close('cancel'));
+  $('policy-dialog-confirm').addEventListener('click', () => dialog.close('confirm'));
+  dialog.addEventListener('close', () => {
+    const answer = asked;
+    asked = null;
+    if (answer && dialog.returnValue === 'confirm' && operates() && connected) setPolicy(answer.item, answer.value);
+  });
 
   function setPolicy(item, value) {
     const { behavior, sequence } = item.policy;

@@ -27,6 +27,7 @@ pub mod rosapi;
 pub mod rosbridge;
 pub use cooperation_adapters::engine::scenes;
 pub mod sync;
+mod who;
 
 use std::net::SocketAddr;
 use std::sync::Arc;
@@ -34,7 +35,7 @@ use std::time::Duration;
 
 use axum::extract::ws::WebSocketUpgrade;
 use axum::extract::{Request, State as Extracted};
-use axum::http::{header, HeaderMap, HeaderValue, StatusCode, Uri};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, Uri};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
@@ -92,6 +93,8 @@ impl Default for Options {
 struct App {
     node: Arc<Node>,
     clients: Arc<Semaphore>,
+    /// The clients without a credential a node without credentials serves at once.
+    max_clients: usize,
     credentials: Option<Arc<Credentials>>,
     /// Each credential's places, in the credentials' order.
     places: Arc<[Arc<Semaphore>]>,
@@ -181,6 +184,7 @@ pub async fn serve(
     let app = App {
         node,
         clients: Arc::new(Semaphore::new(options.max_clients)),
+        max_clients: options.max_clients,
         credentials: options.credentials.map(Arc::new),
         places,
         limits: options.limits,
@@ -190,6 +194,7 @@ pub async fn serve(
     };
     let router = Router::new()
         .route("/", get(root))
+        .route("/whoami", get(who::whoami))
         .merge(panel::routes())
         .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
         .with_state(app);
@@ -263,61 +268,27 @@ async fn root(
     let Ok(upgrade) = upgrade else {
         return panel::page().into_response();
     };
-    let address = peer
-        .as_ref()
-        .map_or_else(|| "unknown".to_owned(), |peer| peer.address.to_string());
-    let ip = peer.as_ref().map(|peer| peer.address.ip());
-    let now = std::time::Instant::now();
-    let locked = ip.and_then(|ip| app.guesses.locked(ip, now));
-    if let (Some(left), true) = (locked, app.credentials.is_some()) {
-        let why = format!(
-            "too many credentials the node does not have from this address: try again in {} s",
-            whole_seconds(left)
-        );
-        app.refusals
-            .log(&address, &format!("a client refused: {why}"));
-        let mut response = (StatusCode::TOO_MANY_REQUESTS, why).into_response();
-        if let Ok(value) = HeaderValue::from_str(&whole_seconds(left).to_string()) {
-            response.headers_mut().insert(header::RETRY_AFTER, value);
-        }
-        return response;
-    }
-    let admitted = match admit(&app, &headers, &uri) {
-        Ok(admitted) => admitted,
-        Err((status, why, guess)) => {
-            let lockout = guess
-                .then_some(ip)
-                .flatten()
-                .and_then(|ip| app.guesses.guessed(ip, now));
-            let why = match lockout {
-                Some(lockout) => format!(
-                    "{why}; too many from this address: locked out for {} s",
-                    whole_seconds(lockout)
-                ),
-                None => why,
-            };
-            app.refusals
-                .log(&address, &format!("a client refused: {why}"));
-            let mut response = (status, why).into_response();
-            if status == StatusCode::UNAUTHORIZED {
-                response
-                    .headers_mut()
-                    .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
-            }
-            return response;
-        }
+    let peer = peer.map(|axum::Extension(peer)| peer);
+    let who = match who::identify(&app, peer.as_ref(), &headers, &uri) {
+        Ok(who) => who,
+        Err(refused) => return *refused,
     };
-    let (grant, permit) = admitted;
-    if let (Grant::Credential(_), Some(ip)) = (&grant, ip) {
-        app.guesses.identified(ip);
+    let Ok(permit) = Arc::clone(&who.places).try_acquire_owned() else {
+        return who::refuse(
+            &app,
+            peer.as_ref(),
+            StatusCode::SERVICE_UNAVAILABLE,
+            who.full(),
+        );
+    };
+    let grant = who.grant;
+    if let (Grant::Credential(credential), Some(peer)) = (&grant, &peer) {
+        tracing::info!(peer = %peer.address, credential = %credential.name, "a client authenticated");
     }
     // A WebSocket without a credential counts against its address for as long as it is open.
     let seat = matches!(grant, Grant::Anyone)
-        .then(|| peer.map(|peer| Arc::clone(&peer.seat)))
+        .then(|| peer.map(|peer| peer.seat))
         .flatten();
-    if let Grant::Credential(credential) = &grant {
-        tracing::info!(peer = %address, credential = %credential.name, "a client authenticated");
-    }
     let limits = app.limits;
     upgrade
         .max_message_size(limits.hard_frame)
@@ -327,56 +298,6 @@ async fn root(
             drop(permit);
             drop(seat);
         })
-}
-
-/// A lockout or the time left of one, in whole seconds, rounded up.
-fn whole_seconds(time: Duration) -> u64 {
-    time.as_secs() + u64::from(time.subsec_nanos() > 0)
-}
-
-/// What a WebSocket upgrade is let in with: its grant and its place; or the HTTP status, the
-/// reason it is refused, and whether it presented a credential the node does not have.
-fn admit(
-    app: &App,
-    headers: &HeaderMap,
-    uri: &Uri,
-) -> Result<(Grant, tokio::sync::OwnedSemaphorePermit), (StatusCode, String, bool)> {
-    let Some(credentials) = &app.credentials else {
-        let permit = Arc::clone(&app.clients).try_acquire_owned().map_err(|_| {
-            (
-                StatusCode::SERVICE_UNAVAILABLE,
-                "this node serves as many clients as it may; try again later".to_owned(),
-                false,
-            )
-        })?;
-        return Ok((Grant::Anyone, permit));
-    };
-    let index = credentials.identify(headers, uri).map_err(|why| {
-        (
-            StatusCode::UNAUTHORIZED,
-            why.as_str().to_owned(),
-            why == auth::Unidentified::Unknown,
-        )
-    })?;
-    let (Some(credential), Some(places)) = (credentials.list().get(index), app.places.get(index))
-    else {
-        return Err((
-            StatusCode::INTERNAL_SERVER_ERROR,
-            "no such credential".to_owned(),
-            false,
-        ));
-    };
-    let permit = Arc::clone(places).try_acquire_owned().map_err(|_| {
-        (
-            StatusCode::SERVICE_UNAVAILABLE,
-            format!(
-                "credential {:?} has {} connections open, the most it may have",
-                credential.name, credentials.places
-            ),
-            false,
-        )
-    })?;
-    Ok((Grant::Credential(credential.clone()), permit))
 }
 
 /// Publishes both topics periodically, and soon after a change is announced.

@@ -1,4 +1,4 @@
-//! The operator panel: a page, its script and the vendored `roslib`, compiled into the binary.
+//! The operator panel: a page, its scripts and the vendored `roslib`, compiled into the binary.
 
 use axum::http::header;
 use axum::response::{Html, IntoResponse};
@@ -9,6 +9,8 @@ use axum::Router;
 const PAGE: &str = include_str!("../panel/index.html");
 /// Its script.
 const SCRIPT: &str = include_str!("../panel/panel.js");
+/// Its way in: the token and `/whoami`.
+const ACCESS: &str = include_str!("../panel/access.js");
 /// `roslib`'s browser build, from the npm package pinned in `panel/package-lock.json`
 /// (`tools/vendor-roslib` copies it).
 const ROSLIB: &str = include_str!("../panel/vendor/roslib.min.js");
@@ -27,5 +29,6 @@ fn script(text: &'static str) -> impl IntoResponse {
 pub(crate) fn routes<S: Clone + Send + Sync + 'static>() -> Router<S> {
     Router::new()
         .route("/panel.js", get(|| async { script(SCRIPT) }))
+        .route("/access.js", get(|| async { script(ACCESS) }))
         .route("/roslib.min.js", get(|| async { script(ROSLIB) }))
 }

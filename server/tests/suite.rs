@@ -17,3 +17,4 @@ mod protocol;
 mod scenes;
 mod subscriptions;
 mod time;
+mod whoami;

@@ -3,27 +3,25 @@
 //   COOPERATION_SERVER=path/to/cooperation-server npm test
 //
 // A planning module (roslib in Node) registers scenes through /cooperation/rtc/sync and keeps
-// them alive; the panel must show them nearest first, send an operator decision the module
-// then sees, switch a policy the node then reports, and show a refusal of the node. The
-// screenshot goes to $SCREENSHOT, or to a temporary directory. Environment: CHROMIUM (default
-// /usr/bin/chromium), HEADED=1 to watch.
+// them alive; the panel must show them waiting first, then nearest first, send an operator
+// decision the module then sees, switch a policy the node then reports, and show a refusal of
+// the node. The screenshot goes to $SCREENSHOT, or to a temporary directory. Environment:
+// CHROMIUM (default /usr/bin/chromium), HEADED=1 to watch. `scale.mjs` tests the panel at 100
+// scenes and the messages of each way in.
 
-import { spawn } from 'node:child_process';
-import { existsSync, mkdirSync, mkdtempSync, writeFileSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, writeFileSync } from 'node:fs';
 import http from 'node:http';
-import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 
-import { chromium } from 'playwright-core';
-import ROSLIB from 'roslib';
+import {
+  ACTIVATE, button, cellIs, DEACTIVATE, Failure, formatted, launch, log, main, Module, OPTIONAL,
+  pageUntil, requirements, REQUIRED, RESYNC_MS, row, RTC_ABORTING, RTC_RUNNING, RTC_WAITING, scene,
+  startServer, STEP_MS, stopServer, until,
+} from './harness.mjs';
 
-const HERE = path.dirname(fileURLToPath(import.meta.url));
-const SETTINGS = path.resolve(HERE, '../../../config/cooperation.param.yaml');
-const STEP_MS = 5000; // the longest any one step may wait
 const TOTAL_MS = 50000; // the whole run
-const RESYNC_MS = 500; // a module's planning cycle, well inside the node's 10 s TTL
+
 // The node runs with credentials: the panel gets the operator's token in its address, the
 // module presents its own, bound to the interfaces it reports for.
 const OPERATOR_TOKEN = 'panel-test-operator-0123456789abcdef';
@@ -32,28 +30,7 @@ const CREDENTIALS = `operator panel ${OPERATOR_TOKEN}
 module planner ${MODULE_TOKEN} lane_change_left intersection crosswalk traffic_light
 `;
 
-const DEACTIVATE = 1;
-const ACTIVATE = 2;
-const OPTIONAL = 1;
-const REQUIRED = 2;
-const RTC_WAITING = 0;
-const RTC_RUNNING = 1;
-const RTC_ABORTING = 2;
-
-const started = Date.now();
-const log = (text) => console.log(`[${((Date.now() - started) / 1000).toFixed(2)} s] ${text}`);
-
-class Failure extends Error {}
-
 // --- The scenes the module reports ------------------------------------------------------------
-
-const bytes = (hex) => Array.from({ length: 16 }, (_, i) => parseInt(hex.slice(2 * i, 2 * i + 2), 16));
-
-function scene(hex, iface, { safe, state, start, finish = start, requested = false }) {
-  return { hex, iface, uuid: bytes(hex), safe, state, start, finish, requested };
-}
-
-const formatted = (hex) => `${hex.slice(0, 8)}-${hex.slice(8, 12)}-${hex.slice(12, 16)}-${hex.slice(16, 20)}-${hex.slice(20)}`;
 
 // The module judges the lane change unsafe (module decision deactivate); the crosswalk asks
 // for an operator decision (requested), so the vehicle waits for one; the crossing is
@@ -65,241 +42,25 @@ const TRAFFIC_LIGHT = scene('7a1c3e905b7e4d219a0c1e2f3a4b5c6d', 'traffic_light',
 // Reported last, asking for an operator decision: the screenshot shows it waiting.
 const ASKING = scene('5eed00015b7e4d219a0c1e2f3a4b5c6d', 'intersection', { safe: true, state: RTC_WAITING, start: 20, requested: true });
 const NEAREST_FIRST = [INTERSECTION, LANE_CHANGE, CROSSWALK, TRAFFIC_LIGHT];
-
-function status(s, state = s.state) {
-  return {
-    stamp: { sec: 0, nanosec: 0 },
-    uuid: { uuid: s.uuid },
-    module: { type: 0 },
-    safe: s.safe,
-    requested: s.requested,
-    command_status: { type: 0 },
-    state: { type: state },
-    auto_mode: false,
-    start_distance: s.start,
-    finish_distance: s.finish,
-  };
-}
-
-// --- Helpers ----------------------------------------------------------------------------------
-
-function within(ms, what, promise) {
-  let timer;
-  const timeout = new Promise((_, reject) => {
-    timer = setTimeout(() => reject(new Failure(`${what}: no result within ${ms / 1000} s`)), ms);
-  });
-  return Promise.race([promise, timeout]).finally(() => clearTimeout(timer));
-}
-
-async function until(what, check, ms = STEP_MS) {
-  const deadline = Date.now() + ms;
-  let last;
-  for (;;) {
-    last = await check();
-    if (last === true) return;
-    if (Date.now() > deadline) throw new Failure(`${what}: not so within ${ms / 1000} s${last ? ` (${last})` : ''}`);
-    await new Promise((resolve) => setTimeout(resolve, 50));
-  }
-}
-
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const probe = net.createServer();
-    probe.once('error', reject);
-    probe.listen(0, '127.0.0.1', () => {
-      const { port } = probe.address();
-      probe.close(() => resolve(port));
-    });
-  });
-}
-
-function accepts(port) {
-  return new Promise((resolve) => {
-    const socket = net.connect({ host: '127.0.0.1', port });
-    socket.once('connect', () => { socket.destroy(); resolve(true); });
-    socket.once('error', () => resolve(false));
-  });
-}
-
-// --- The node ---------------------------------------------------------------------------------
-
-async function startServer(binary) {
-  for (let attempt = 1; ; attempt++) {
-    const port = await freePort();
-    const output = [];
-    const credentials = path.join(mkdtempSync(path.join(os.tmpdir(), 'credentials-')), 'credentials');
-    writeFileSync(credentials, CREDENTIALS, { mode: 0o600 });
-    const child = spawn(binary, ['--listen', `127.0.0.1:${port}`, '--settings', SETTINGS, '--credentials', credentials], {
-      stdio: ['ignore', 'pipe', 'pipe'],
-      env: { ...process.env, NO_COLOR: '1', RUST_LOG: process.env.RUST_LOG || 'info' },
-    });
-    for (const stream of [child.stdout, child.stderr]) {
-      stream.on('data', (chunk) => output.push(...chunk.toString().split('\n').filter(Boolean)));
-    }
-    let exited = null;
-    child.once('exit', (code, signal) => { exited = signal || `exit code ${code}`; });
-    child.once('error', (error) => { exited = error.message; });
-    const server = { child, port, output, stopped: () => exited };
-    try {
-      await until(`cooperation-server accepting connections on port ${port}`, async () => {
-        if (exited) throw new Failure(`cooperation-server stopped (${exited}):\n${output.join('\n')}`);
-        return (await accepts(port)) || undefined;
-      }, 10000);
-      return server;
-    } catch (error) {
-      await stopServer(server);
-      // Another process may have taken the port between the probe and the bind.
-      if (attempt < 3 && output.some((line) => line.includes('cannot listen'))) continue;
-      throw error;
-    }
-  }
-}
-
-async function stopServer(server) {
-  if (!server || server.stopped()) return;
-  const gone = new Promise((resolve) => server.child.once('exit', resolve));
-  server.child.kill('SIGINT');
-  const timer = setTimeout(() => server.child.kill('SIGKILL'), 2000);
-  await gone;
-  clearTimeout(timer);
-}
-
-// --- The planning module ----------------------------------------------------------------------
-
-class Module {
-  constructor(port) {
-    this.url = `ws://127.0.0.1:${port}/?token=${MODULE_TOKEN}`;
-    this.scenes = new Map(); // hex -> scene, re-synced every cycle
-    this.responses = new Map(); // interface -> the last sync response
-    this.errors = [];
-  }
-
-  async connect() {
-    this.ros = new ROSLIB.Ros({ encoding: 'utf8' });
-    const open = new Promise((resolve, reject) => {
-      this.ros.once('connection', resolve);
-      this.ros.once('error', (error) => reject(new Failure(`the module's connection: ${error.message || error}`)));
-    });
-    this.ros.connect(this.url);
-    await within(STEP_MS, `the module connecting to ${this.url}`, open);
-    this.sync = new ROSLIB.Service({ ros: this.ros, name: '/cooperation/rtc/sync', serviceType: 'cooperation_server/srv/SyncCooperateStatus' });
-  }
-
-  call(name, serviceType, args) {
-    const service = new ROSLIB.Service({ ros: this.ros, name, serviceType });
-    return within(STEP_MS, `the module calling ${name}`, new Promise((resolve, reject) => {
-      service.callService(new ROSLIB.ServiceRequest(args), resolve, (error) => reject(new Failure(`${name}: ${error}`)));
-    }));
-  }
-
-  async syncOnce(iface, statuses, removed = []) {
-    const response = await this.call('/cooperation/rtc/sync', 'cooperation_server/srv/SyncCooperateStatus', { interface: iface, statuses, removed });
-    if (!response.success) {
-      throw new Failure(`sync of ${iface} refused: ${response.message || JSON.stringify(response.results)}`);
-    }
-    this.responses.set(iface, response);
-    return response;
-  }
-
-  // Registers a scene; an aborting one runs first, as a module's would.
-  async add(s) {
-    if (s.state === RTC_ABORTING) await this.syncOnce(s.iface, [status(s, RTC_RUNNING)]);
-    await this.syncOnce(s.iface, [status(s)]);
-    this.scenes.set(s.hex, s);
-  }
-
-  // Stops reporting a scene, as a module that went silent: the node keeps it until it expires.
-  silence(s) {
-    this.scenes.delete(s.hex);
-  }
-
-  async remove(s) {
-    this.scenes.delete(s.hex);
-    await this.syncOnce(s.iface, [], [{ uuid: s.uuid }]);
-  }
-
-  // Re-reports every scene each cycle, as a planner does, so none expires.
-  startCycle() {
-    this.cycle = setInterval(() => {
-      const byInterface = new Map();
-      for (const s of this.scenes.values()) byInterface.set(s.iface, [...(byInterface.get(s.iface) || []), status(s)]);
-      for (const [iface, statuses] of byInterface) {
-        this.syncOnce(iface, statuses).catch((error) => this.errors.push(error.message));
-      }
-    }, RESYNC_MS);
-  }
-
-  checkCycle() {
-    if (this.errors.length) throw new Failure(`the module's re-sync failed: ${this.errors[0]}`);
-  }
-
-  activation(s) {
-    const response = this.responses.get(s.iface);
-    return response && response.activations.find((a) => a.uuid.uuid.join() === s.uuid.join());
-  }
-
-  async policy(behavior) {
-    const response = await this.call('/api/planning/cooperation/get_policies', 'autoware_adapi_v1_msgs/srv/GetCooperationPolicies', {});
-    const found = response.policies.find((p) => p.behavior === behavior && p.sequence === '');
-    if (!found) throw new Failure(`get_policies lists no ${behavior}: ${JSON.stringify(response.policies)}`);
-    return found.policy;
-  }
-
-  close() {
-    clearInterval(this.cycle);
-    if (this.ros) this.ros.close();
-  }
-}
-
-// --- The page ---------------------------------------------------------------------------------
-
-const row = (s) => `#scene-rows tr[data-uuid="${s.hex}"]`;
-const button = (s, decision) => `${row(s)} button[data-decision="${decision}"]`;
-
-async function pageUntil(page, what, fn, arg) {
-  try {
-    await page.waitForFunction(fn, arg, { timeout: STEP_MS, polling: 50 });
-  } catch (error) {
-    const message = await page.locator('#message').textContent().catch(() => '?');
-    const connection = await page.locator('#connection').textContent().catch(() => '?');
-    throw new Failure(`${what}: not so within ${STEP_MS / 1000} s `
-      + `(connection: ${connection.trim()}; message: ${message.trim()}; ${error.message.split('\n')[0]})`);
-  }
-}
-
-const cellIs = (s, col, decision) => [
-  ([selector, col, decision]) => {
-    const cell = document.querySelector(`${selector} [data-col="${col}"]`);
-    return cell && cell.dataset.decision === String(decision);
-  },
-  [row(s), col, decision],
-];
+// The crosswalk waits for the operator: it comes first, the others after it nearest first.
+const LISTED = [CROSSWALK, INTERSECTION, LANE_CHANGE, TRAFFIC_LIGHT];
 
 // --- The run ----------------------------------------------------------------------------------
 
 async function run(state) {
-  const binary = process.env.COOPERATION_SERVER;
-  if (!binary) throw new Failure('COOPERATION_SERVER is not set: give the path of the cooperation-server binary (cargo build --release -p cooperation-server)');
-  if (!existsSync(binary)) throw new Failure(`COOPERATION_SERVER=${binary}: no such file`);
-  const chromiumPath = process.env.CHROMIUM || '/usr/bin/chromium';
-  if (!existsSync(chromiumPath)) throw new Failure(`no Chromium at ${chromiumPath}: set CHROMIUM`);
-
-  state.server = await startServer(binary);
+  const { binary, chromiumPath } = requirements();
+  state.server = await startServer(binary, CREDENTIALS);
   const { port } = state.server;
   log(`cooperation-server serving on 127.0.0.1:${port}`);
 
-  const module = new Module(port);
-  state.module = module;
+  const module = new Module(port, MODULE_TOKEN);
+  state.modules.push(module);
   await module.connect();
   for (const s of NEAREST_FIRST) await module.add(s);
   module.startCycle();
   log(`the module reports ${NEAREST_FIRST.length} scenes and re-syncs every ${RESYNC_MS} ms`);
 
-  state.browser = await chromium.launch({
-    executablePath: chromiumPath,
-    headless: !process.env.HEADED,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
-  });
+  state.browser = await launch(chromiumPath);
   const page = await state.browser.newPage({ viewport: { width: 1280, height: 800 } });
   const pageErrors = [];
   page.on('pageerror', (error) => pageErrors.push(error.message));
@@ -321,7 +82,7 @@ async function run(state) {
   await tokenless.goto(`http://127.0.0.1:${port}/`, { timeout: STEP_MS });
   await pageUntil(tokenless, 'a panel without a token says it needs one', () => {
     const indicator = document.getElementById('connection');
-    return indicator.dataset.state === 'disconnected' && indicator.textContent.includes('#token=');
+    return indicator.dataset.state === 'refused' && indicator.textContent.includes('#token=');
   });
   await tokenless.close();
   log('a panel without a token is not let in, and says it needs one');
@@ -361,6 +122,7 @@ async function run(state) {
     response.end('<title>another origin</title>');
   });
   await new Promise((resolve) => state.strangerServer.listen(0, '127.0.0.1', resolve));
+  state.close.push(() => state.strangerServer.close());
   const strangerDir = mkdtempSync(path.join(os.tmpdir(), 'stranger-'));
   writeFileSync(path.join(strangerDir, 'stranger.html'), '<title>a file</title>');
   const stranger = await state.browser.newPage();
@@ -386,18 +148,19 @@ async function run(state) {
   }
   log('the panel\'s page cannot connect to another server');
 
-  // The scenes appear, nearest first, velocity and steering factors merged.
-  const wanted = NEAREST_FIRST.map((s) => s.hex);
-  await pageUntil(page, `the table lists the scenes nearest first (${wanted.join(', ')})`,
+  // The scenes appear, the one waiting for the operator first, then nearest first, velocity
+  // and steering factors merged.
+  const wanted = LISTED.map((s) => s.hex);
+  await pageUntil(page, `the table lists the scenes waiting first, then nearest first (${wanted.join(', ')})`,
     (wanted) => JSON.stringify(Array.from(document.querySelectorAll('#scene-rows tr'), (tr) => tr.dataset.uuid)) === JSON.stringify(wanted),
     wanted);
   const distance = (await page.locator(`${row(LANE_CHANGE)} [data-col="distance"]`).textContent()).trim();
-  if (distance !== '30.0 m → 80.0 m') throw new Failure(`the lane change's distance reads ${JSON.stringify(distance)}`);
+  if (distance !== '30.0 m\n→ 80.0 m') throw new Failure(`the lane change's distance reads ${JSON.stringify(distance)}`);
   if (!(await page.locator(button(TRAFFIC_LIGHT, ACTIVATE)).isDisabled())) {
     throw new Failure('the aborting scene\'s buttons are enabled, though the node accepts no command for it');
   }
   await pageUntil(page, 'the lane change shows module decision deactivate', ...cellIs(LANE_CHANGE, 'autonomous', DEACTIVATE));
-  log('the scenes are listed nearest first');
+  log('the scenes are listed waiting first, then nearest first');
 
   // Each row names its scene in full, shows the merged decision the vehicle drives with, and
   // marks the scene the vehicle waits on the operator for.
@@ -442,6 +205,8 @@ async function run(state) {
   const before = await module.policy('lane-change');
   if (before !== OPTIONAL) throw new Failure(`lane-change's policy is ${before} before the switch, not optional (${OPTIONAL})`);
   await page.click('label[for="policy-lane-change"]', { timeout: STEP_MS });
+  await pageUntil(page, 'the switch asks for a confirmation first', () => document.getElementById('policy-dialog').open);
+  await page.click('#policy-dialog-confirm', { timeout: STEP_MS });
   await pageUntil(page, 'the lane-change switch shows required (read back from get_policies)', () => {
     const input = document.getElementById('policy-lane-change');
     return input.checked && !input.disabled && input.closest('li').dataset.value === 'required';
@@ -461,6 +226,11 @@ async function run(state) {
   const refusal = (await page.locator('#message').textContent()).trim();
   log(`the refusal is shown: ${refusal}`);
   frozen = false;
+  // The pointer is still over the scenes: the removed scene's row stays in its place, ended,
+  // until the pointer leaves them.
+  await pageUntil(page, 'under the pointer, the removed scene\'s row stays, marked ended',
+    (selector) => document.querySelector(selector)?.dataset.ended === 'true', row(INTERSECTION));
+  await page.mouse.move(1, 1);
   await pageUntil(page, 'the removed scene leaves the table', (selector) => !document.querySelector(selector), row(INTERSECTION));
 
   // The next success replaces the refusal.
@@ -480,7 +250,7 @@ async function run(state) {
   module.silence(TRAFFIC_LIGHT);
   await pageUntil(page, 'the scene its module stopped reporting is marked stale, the others are not',
     ([silent, others]) => document.querySelector(silent).dataset.stale === 'true'
-      && /s ago/.test(document.querySelector(`${silent} [data-col="age"]`).textContent)
+      && /^\d+\.\d s$/.test(document.querySelector(`${silent} [data-col="age"]`).textContent)
       && others.every((selector) => document.querySelector(selector).dataset.stale === 'false'),
     [row(TRAFFIC_LIGHT), [row(LANE_CHANGE), row(CROSSWALK)]]);
   log('a silent module\'s scene is marked stale');
@@ -520,6 +290,8 @@ async function run(state) {
   const file = process.env.SCREENSHOT
     || path.join(mkdtempSync(path.join(os.tmpdir(), 'operator-panel-')), 'operator-panel.png');
   mkdirSync(path.dirname(path.resolve(file)), { recursive: true });
+  await page.mouse.move(1, 1);
+  await page.evaluate(() => scrollTo(0, 0));
   await page.screenshot({ path: file, timeout: STEP_MS });
   log(`screenshot: ${file}`);
 
@@ -531,40 +303,4 @@ async function run(state) {
   log('a lost connection replaces the last answer with a warning');
 }
 
-async function cleanUp(state) {
-  if (state.module) state.module.close();
-  if (state.strangerServer) state.strangerServer.close();
-  if (state.browser) await state.browser.close().catch(() => {});
-  await stopServer(state.server);
-}
-
-async function main() {
-  const state = {};
-  const killServer = () => { if (state.server && !state.server.stopped()) state.server.child.kill('SIGKILL'); };
-  process.once('exit', killServer);
-  for (const signal of ['SIGINT', 'SIGTERM']) {
-    process.once(signal, () => { killServer(); process.exit(130); });
-  }
-  const watchdog = setTimeout(() => {
-    console.error(`FAIL: the run took longer than ${TOTAL_MS / 1000} s`);
-    killServer();
-    process.exit(1);
-  }, TOTAL_MS);
-  let failed = null;
-  try {
-    await run(state);
-  } catch (error) {
-    failed = error;
-  }
-  await cleanUp(state);
-  clearTimeout(watchdog);
-  if (failed) {
-    console.error(`FAIL: ${failed instanceof Failure ? failed.message : failed.stack}`);
-    if (state.server) console.error(`cooperation-server's last lines:\n${state.server.output.slice(-20).join('\n')}`);
-    process.exit(1);
-  }
-  log('PASS');
-  process.exit(0);
-}
-
-main();
+main(TOTAL_MS, run);

@@ -1,0 +1,202 @@
+//! Who a request is: the grant its token gives, and the places it would take, checked the same
+//! way for a WebSocket upgrade (`/`) and for `/whoami`, which answers it without taking a place.
+//!
+//! `/whoami` lets the operator panel tell apart what a browser's WebSocket cannot (its failed
+//! upgrade's status is hidden from scripts): a token that is no credential's, an address locked
+//! out for its guesses, a credential whose places are all taken, a module's token, and a node
+//! that does not answer at all. It reads the token from the `Authorization: Bearer` header
+//! only (never from the URL, so that no token is left in a log or a history), and counts a
+//! wrong one as a guess, exactly as an upgrade does ([`crate::guesses`]).
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use axum::extract::State as Extracted;
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode, Uri};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use tokio::sync::Semaphore;
+
+use crate::auth::{self, Grant, Role};
+use crate::{front, App};
+
+/// A request's grant, and the places it takes a connection from.
+pub(crate) struct Who {
+    /// What the connection may do.
+    pub(crate) grant: Grant,
+    /// Its credential's places, or those of the clients without one.
+    pub(crate) places: Arc<Semaphore>,
+    /// How many places there are.
+    pub(crate) most: usize,
+}
+
+impl Who {
+    /// Why a connection gets no place: all are taken.
+    pub(crate) fn full(&self) -> String {
+        match &self.grant {
+            Grant::Anyone => {
+                "this node serves as many clients as it may; try again later".to_owned()
+            }
+            Grant::Credential(credential) => format!(
+                "credential {:?} has {} connections open, the most it may have",
+                credential.name, self.most
+            ),
+        }
+    }
+}
+
+/// Who a request is, from its token; or the response that refuses it, logged: HTTP 429 with
+/// `Retry-After` while its address is locked out (its token unread), HTTP 401 for no token or
+/// one that is no credential's (a guess, which may lock the address out).
+pub(crate) fn identify(
+    app: &App,
+    peer: Option<&front::Peer>,
+    headers: &HeaderMap,
+    uri: &Uri,
+) -> Result<Who, Box<Response>> {
+    let Some(credentials) = &app.credentials else {
+        return Ok(Who {
+            grant: Grant::Anyone,
+            places: Arc::clone(&app.clients),
+            most: app.max_clients,
+        });
+    };
+    let ip = peer.map(|peer| peer.address.ip());
+    let now = Instant::now();
+    if let Some(left) = ip.and_then(|ip| app.guesses.locked(ip, now)) {
+        let why = format!(
+            "too many credentials the node does not have from this address: try again in {} s",
+            whole_seconds(left)
+        );
+        let mut response = refuse(app, peer, StatusCode::TOO_MANY_REQUESTS, why);
+        if let Ok(value) = HeaderValue::from_str(&whole_seconds(left).to_string()) {
+            response.headers_mut().insert(header::RETRY_AFTER, value);
+        }
+        return Err(Box::new(response));
+    }
+    let index = match credentials.identify(headers, uri) {
+        Ok(index) => index,
+        Err(why) => {
+            let lockout = (why == auth::Unidentified::Unknown)
+                .then_some(ip)
+                .flatten()
+                .and_then(|ip| app.guesses.guessed(ip, now));
+            let why = match lockout {
+                Some(lockout) => format!(
+                    "{}; too many from this address: locked out for {} s",
+                    why.as_str(),
+                    whole_seconds(lockout)
+                ),
+                None => why.as_str().to_owned(),
+            };
+            let mut response = refuse(app, peer, StatusCode::UNAUTHORIZED, why);
+            response
+                .headers_mut()
+                .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
+            return Err(Box::new(response));
+        }
+    };
+    let (Some(credential), Some(places)) = (credentials.list().get(index), app.places.get(index))
+    else {
+        return Err(Box::new(refuse(
+            app,
+            peer,
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "no such credential".to_owned(),
+        )));
+    };
+    if let Some(ip) = ip {
+        app.guesses.identified(ip);
+    }
+    Ok(Who {
+        grant: Grant::Credential(credential.clone()),
+        places: Arc::clone(places),
+        most: credentials.places,
+    })
+}
+
+/// A refusal with `status` and `why`, logged with the peer's address.
+pub(crate) fn refuse(
+    app: &App,
+    peer: Option<&front::Peer>,
+    status: StatusCode,
+    why: String,
+) -> Response {
+    let address = peer.map_or_else(|| "unknown".to_owned(), |peer| peer.address.to_string());
+    app.refusals
+        .log(&address, &format!("a client refused: {why}"));
+    (status, why).into_response()
+}
+
+/// `/whoami`'s answer.
+#[derive(Serialize, Debug)]
+struct Answer {
+    /// `operator`, `module`, or `anyone` on a node without credentials.
+    role: &'static str,
+    /// The credential's name; none on a node without credentials.
+    credential: Option<String>,
+    /// The RTC interfaces a module may report for.
+    interfaces: Vec<String>,
+    /// The connections it may have open at once.
+    places: usize,
+    /// Those open now.
+    open: usize,
+}
+
+/// `/whoami`: what the request's `Authorization: Bearer` token would let a WebSocket in as,
+/// and how many of its places are taken, as JSON; or the refusal an upgrade would get for it
+/// (HTTP 401 or 429), except that a full credential is an answer (`open` equal to `places`),
+/// not a refusal. Takes no place.
+pub(crate) async fn whoami(
+    Extracted(app): Extracted<App>,
+    peer: Option<axum::Extension<front::Peer>>,
+    headers: HeaderMap,
+) -> Response {
+    let peer = peer.map(|axum::Extension(peer)| peer);
+    // The header only: a token in this URL would be left in logs and histories.
+    let who = match identify(&app, peer.as_ref(), &headers, &Uri::from_static("/whoami")) {
+        Ok(who) => who,
+        Err(refused) => return *refused,
+    };
+    let open = who.most.saturating_sub(who.places.available_permits());
+    let answer = match who.grant {
+        Grant::Anyone => Answer {
+            role: "anyone",
+            credential: None,
+            interfaces: Vec::new(),
+            places: who.most,
+            open,
+        },
+        Grant::Credential(credential) => Answer {
+            role: match credential.role {
+                Role::Operator => "operator",
+                Role::Module => "module",
+            },
+            credential: Some(credential.name),
+            interfaces: credential.interfaces.into_iter().collect(),
+            places: who.most,
+            open,
+        },
+    };
+    let Ok(body) = serde_json::to_string(&answer) else {
+        return refuse(
+            &app,
+            peer.as_ref(),
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "the answer did not serialize".to_owned(),
+        );
+    };
+    (
+        [
+            (header::CONTENT_TYPE, "application/json"),
+            (header::CACHE_CONTROL, "no-store"),
+        ],
+        body,
+    )
+        .into_response()
+}
+
+/// A lockout or the time left of one, in whole seconds, rounded up.
+fn whole_seconds(time: std::time::Duration) -> u64 {
+    time.as_secs() + u64::from(time.subsec_nanos() > 0)
+}
