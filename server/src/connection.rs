@@ -142,8 +142,16 @@ impl Subscriptions {
     }
 }
 
-/// Serves one client until it leaves, stalls, or sends a frame over the hard limit.
-pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits, grant: Grant) {
+/// Serves one client until it leaves, stalls, sends a frame over the hard limit, or `stop`
+/// completes (another client took its place).
+pub async fn serve(
+    socket: WebSocket,
+    node: Arc<Node>,
+    limits: Limits,
+    grant: Grant,
+    stop: impl std::future::Future<Output = ()> + Send,
+) {
+    let mut stop = std::pin::pin!(stop);
     let (sink, mut stream) = socket.split();
     let (out, queue) = mpsc::channel(limits.queue.max(1));
     let mut writer = tokio::spawn(write(sink, queue, Arc::clone(&node), limits));
@@ -173,6 +181,7 @@ pub async fn serve(socket: WebSocket, node: Arc<Node>, limits: Limits, grant: Gr
                     None
                 })
             }
+            () = &mut stop => None,
             done = &mut writer => {
                 writer_done = true;
                 if let Err(error) = done {

@@ -33,7 +33,7 @@ use hyper_util::rt::{TokioIo, TokioTimer};
 use tokio::net::TcpListener;
 use tokio::sync::Semaphore;
 
-use crate::prefix::Prefix;
+use crate::fair::Fair;
 use crate::refusals::Refusals;
 use tower::ServiceExt;
 
@@ -132,109 +132,6 @@ impl Drop for Seat {
     }
 }
 
-/// The connections waiting for their request, by address prefix, oldest first in each.
-#[derive(Debug)]
-struct Waiting {
-    most: usize,
-    state: Mutex<WaitingState>,
-}
-
-#[derive(Debug, Default)]
-struct WaitingState {
-    next: u64,
-    total: usize,
-    by_prefix: HashMap<Prefix, std::collections::VecDeque<(u64, tokio::sync::oneshot::Sender<()>)>>,
-}
-
-/// A waiting connection's place; freed when dropped. `evicted` fires when a newcomer takes it.
-#[derive(Debug)]
-struct Place {
-    waiting: Arc<Waiting>,
-    prefix: Prefix,
-    id: u64,
-}
-
-/// Why a connection got no place: its prefix has as many waiting as any.
-struct Full;
-
-impl Waiting {
-    fn new(most: usize) -> Arc<Self> {
-        Arc::new(Self {
-            most,
-            state: Mutex::new(WaitingState::default()),
-        })
-    }
-
-    /// A place for a connection from `ip`, and what tells it that it was evicted; whether it
-    /// took another's.
-    fn place(
-        self: &Arc<Self>,
-        ip: IpAddr,
-    ) -> Result<(Place, tokio::sync::oneshot::Receiver<()>, bool), Full> {
-        let prefix = Prefix::of(ip);
-        let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
-        let mut evicted = false;
-        if state.total >= self.most {
-            let own = state.by_prefix.get(&prefix).map_or(0, |queue| queue.len());
-            let fullest = state
-                .by_prefix
-                .iter()
-                .max_by_key(|(_, queue)| queue.len())
-                .filter(|(_, queue)| queue.len() > own)
-                .map(|(prefix, _)| *prefix);
-            let oldest = fullest
-                .and_then(|fullest| state.by_prefix.get_mut(&fullest))
-                .and_then(std::collections::VecDeque::pop_front);
-            let Some((_, evict)) = oldest else {
-                return Err(Full);
-            };
-            // The evicted connection's task ends when told; if it already ended, nothing waits.
-            let _ = evict.send(());
-            state.total -= 1;
-            state.by_prefix.retain(|_, queue| !queue.is_empty());
-            evicted = true;
-        }
-        let id = state.next;
-        state.next += 1;
-        let (tell, told) = tokio::sync::oneshot::channel();
-        state
-            .by_prefix
-            .entry(prefix)
-            .or_default()
-            .push_back((id, tell));
-        state.total += 1;
-        Ok((
-            Place {
-                waiting: Arc::clone(self),
-                prefix,
-                id,
-            },
-            told,
-            evicted,
-        ))
-    }
-}
-
-impl Drop for Place {
-    fn drop(&mut self) {
-        let mut state = self
-            .waiting
-            .state
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner);
-        let Some(queue) = state.by_prefix.get_mut(&self.prefix) else {
-            return;
-        };
-        let before = queue.len();
-        queue.retain(|(id, _)| *id != self.id);
-        let removed = before - queue.len();
-        if queue.is_empty() {
-            state.by_prefix.remove(&self.prefix);
-        }
-        state.total -= removed;
-    }
-}
-
 /// Who sent a request: put in every request's extensions. A WebSocket that counts against its
 /// address keeps the seat (a clone of the `Arc`) for as long as it is open.
 #[derive(Clone, Debug)]
@@ -254,7 +151,7 @@ pub(crate) async fn accept(
     refusals: Arc<Refusals>,
     shutdown: impl std::future::Future<Output = ()> + Send,
 ) {
-    let waiting = Waiting::new(admission.pending);
+    let waiting = Fair::new(admission.pending);
     let peers = Arc::new(Peers::default());
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
@@ -360,44 +257,5 @@ async fn serve_connection(
                 admission.request_timeout
             ),
         ),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn ip(text: &str) -> IpAddr {
-        text.parse().expect("an address")
-    }
-
-    #[test]
-    fn a_full_door_takes_a_place_only_from_a_prefix_with_more_waiting() {
-        let waiting = Waiting::new(3);
-        let (a1, mut a1_told, _) = waiting.place(ip("10.0.0.1")).ok().expect("a place");
-        let (a2, _a2_told, _) = waiting.place(ip("10.0.0.1")).ok().expect("a place");
-        let (b1, _b1_told, took) = waiting.place(ip("10.0.0.2")).ok().expect("a place");
-        assert!(!took);
-        // Full: one more from the fullest prefix gets nothing ...
-        assert!(waiting.place(ip("10.0.0.1")).is_err());
-        // ... but 10.0.0.2, with 1 waiting against 10.0.0.1's 2, takes 10.0.0.1's oldest.
-        let (b2, _b2_told, took) = waiting.place(ip("10.0.0.2")).ok().expect("a place");
-        assert!(took);
-        assert_eq!(a1_told.try_recv(), Ok(()));
-        drop(a1);
-        // Now 10.0.0.1 and 10.0.0.2 hold 1 and 2: a third prefix takes 10.0.0.2's oldest.
-        let (_c1, _c1_told, took) = waiting.place(ip("10.0.0.3")).ok().expect("a place");
-        assert!(took);
-        // Each prefix holds one: a prefix with none takes a place, one with one does not.
-        assert!(waiting.place(ip("10.0.0.1")).is_err());
-        let (_d1, _d1_told, took) = waiting.place(ip("10.0.0.4")).ok().expect("a place");
-        assert!(took);
-        drop((a2, b1, b2));
-        let state = waiting.state.lock().expect("the lock");
-        assert_eq!(
-            state.total,
-            state.by_prefix.values().map(|q| q.len()).sum::<usize>()
-        );
-        assert!(state.total <= 3);
     }
 }

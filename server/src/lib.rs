@@ -17,6 +17,7 @@
 pub mod access;
 pub mod auth;
 pub mod connection;
+mod fair;
 pub mod front;
 pub mod guesses;
 pub mod node;
@@ -58,8 +59,10 @@ pub struct Options {
     pub publish_every: Duration,
     /// The interval between ticks of the core's clock.
     pub tick_every: Duration,
-    /// At most this many clients without a credential at once (a node with no credentials);
-    /// one more is answered HTTP 503.
+    /// At most this many clients without a credential at once (a node with no credentials).
+    /// When all are taken, one more takes the place of the oldest client of the address prefix
+    /// that has the most, if that is more than its own prefix has; otherwise it is
+    /// answered HTTP 503.
     pub max_clients: usize,
     /// The credentials clients must present, each with places of its own; `None`: any client
     /// may do anything ([`auth`]).
@@ -92,8 +95,9 @@ impl Default for Options {
 #[derive(Clone)]
 struct App {
     node: Arc<Node>,
-    clients: Arc<Semaphore>,
-    /// The clients without a credential a node without credentials serves at once.
+    /// The places of the clients of a node without credentials.
+    clients: Arc<fair::Fair>,
+    /// How many.
     max_clients: usize,
     credentials: Option<Arc<Credentials>>,
     /// Each credential's places, in the credentials' order.
@@ -183,7 +187,7 @@ pub async fn serve(
     ));
     let app = App {
         node,
-        clients: Arc::new(Semaphore::new(options.max_clients)),
+        clients: fair::Fair::new(options.max_clients),
         max_clients: options.max_clients,
         credentials: options.credentials.map(Arc::new),
         places,
@@ -273,7 +277,8 @@ async fn root(
         Ok(who) => who,
         Err(refused) => return *refused,
     };
-    let Ok(permit) = Arc::clone(&who.places).try_acquire_owned() else {
+    let address = peer.as_ref().map(|peer| peer.address);
+    let Some((held, stop)) = who::take_place(&app, &who, address) else {
         return who::refuse(
             &app,
             peer.as_ref(),
@@ -294,8 +299,8 @@ async fn root(
         .max_message_size(limits.hard_frame)
         .max_frame_size(limits.hard_frame)
         .on_upgrade(move |socket| async move {
-            connection::serve(socket, app.node, limits, grant).await;
-            drop(permit);
+            connection::serve(socket, app.node, limits, grant, stop).await;
+            drop(held);
             drop(seat);
         })
 }

@@ -8,6 +8,9 @@
 //! only (never from the URL, so that no token is left in a log or a history), and counts a
 //! wrong one as a guess, exactly as an upgrade does ([`crate::guesses`]).
 
+use std::future::Future;
+use std::net::SocketAddr;
+use std::pin::Pin;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -18,16 +21,74 @@ use serde::Serialize;
 use tokio::sync::Semaphore;
 
 use crate::auth::{self, Grant, Role};
+use crate::fair::Fair;
 use crate::{front, App};
 
 /// A request's grant, and the places it takes a connection from.
 pub(crate) struct Who {
     /// What the connection may do.
     pub(crate) grant: Grant,
-    /// Its credential's places, or those of the clients without one.
-    pub(crate) places: Arc<Semaphore>,
+    /// Where its connection's place comes from.
+    places: Places,
     /// How many places there are.
-    pub(crate) most: usize,
+    most: usize,
+}
+
+/// The places a connection takes one of.
+enum Places {
+    /// Its credential's own.
+    Credential(Arc<Semaphore>),
+    /// Those of a node without credentials, shared fairly by address prefix.
+    Anyone(Arc<Fair>),
+}
+
+/// A connection's place, freed when dropped: one of its credential's, or of a node without
+/// credentials'.
+pub(crate) type Held = Box<dyn Send>;
+
+/// What completes when another client takes a connection's place.
+pub(crate) type Stop = Pin<Box<dyn Future<Output = ()> + Send>>;
+
+/// A connection's place, and what completes when another client takes it.
+pub(crate) fn take_place(
+    app: &App,
+    who: &Who,
+    address: Option<SocketAddr>,
+) -> Option<(Held, Stop)> {
+    match &who.places {
+        Places::Credential(places) => {
+            let permit = Arc::clone(places).try_acquire_owned().ok()?;
+            Some((Box::new(permit), Box::pin(std::future::pending())))
+        }
+        Places::Anyone(fair) => {
+            let address =
+                address.unwrap_or_else(|| SocketAddr::from((std::net::Ipv4Addr::UNSPECIFIED, 0)));
+            let (place, evicted, took) = fair.place(address.ip()).ok()?;
+            let peer = address.to_string();
+            if took {
+                app.refusals.log(
+                    &peer,
+                    &format!(
+                        "a client let in in place of the oldest client of the address with the \
+                         most of the {} clients",
+                        who.most
+                    ),
+                );
+            }
+            let refusals = Arc::clone(&app.refusals);
+            let stop = async move {
+                if evicted.await.is_ok() {
+                    refusals.log(
+                        &peer,
+                        "a client closed: a client from an address with fewer took its place",
+                    );
+                } else {
+                    std::future::pending::<()>().await;
+                }
+            };
+            Some((Box::new(place), Box::pin(stop)))
+        }
+    }
 }
 
 impl Who {
@@ -57,7 +118,7 @@ pub(crate) fn identify(
     let Some(credentials) = &app.credentials else {
         return Ok(Who {
             grant: Grant::Anyone,
-            places: Arc::clone(&app.clients),
+            places: Places::Anyone(Arc::clone(&app.clients)),
             most: app.max_clients,
         });
     };
@@ -110,7 +171,7 @@ pub(crate) fn identify(
     }
     Ok(Who {
         grant: Grant::Credential(credential.clone()),
-        places: Arc::clone(places),
+        places: Places::Credential(Arc::clone(places)),
         most: credentials.places,
     })
 }
@@ -158,7 +219,10 @@ pub(crate) async fn whoami(
         Ok(who) => who,
         Err(refused) => return *refused,
     };
-    let open = who.most.saturating_sub(who.places.available_permits());
+    let open = match &who.places {
+        Places::Credential(places) => who.most.saturating_sub(places.available_permits()),
+        Places::Anyone(fair) => fair.held(),
+    };
     let answer = match who.grant {
         Grant::Anyone => Answer {
             role: "anyone",

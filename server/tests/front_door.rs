@@ -100,3 +100,57 @@ async fn an_operator_gets_in_however_many_tokenless_connections_wait() {
         assert!(opened.load(Ordering::Relaxed) > 4 * PENDING);
     }
 }
+
+/// A node without credentials: subscribers from two addresses hold every client's place, and
+/// stay, as subscribers are not idle; a client from a third address
+/// still gets in, in the place of the oldest of one of them, while one more from either
+/// of the two is refused.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn subscribers_without_a_credential_keep_no_other_address_out() {
+    use crate::common::Client;
+    // The default places, each address allowed them all: what refuses is the sharing.
+    let clients = Options::default().max_clients;
+    let per_peer = clients / 2;
+    let served = serve(Options {
+        admission: Admission {
+            per_peer: clients,
+            ..Admission::default()
+        },
+        ..Options::default()
+    })
+    .await;
+    let url = served.url.as_str();
+    let mut held = Vec::new();
+    for source in ["127.0.0.1", "127.0.0.2"] {
+        for _ in 0..per_peer {
+            let mut client = Client::connect_from(url, source).await.expect("in");
+            client.subscribe("/api/planning/velocity_factors").await;
+            held.push(client);
+        }
+    }
+    // Full: one more from either address is refused.
+    for source in ["127.0.0.1", "127.0.0.2"] {
+        assert_eq!(Client::connect_from(url, source).await.err(), Some(503));
+    }
+    // A third address gets in, and is served ...
+    let mut operator = Client::connect_from(url, "127.0.0.3").await.expect("in");
+    let read = operator
+        .call(
+            "/api/planning/cooperation/get_policies",
+            serde_json::json!({}),
+        )
+        .await;
+    assert_eq!(read["values"]["status"]["success"], true, "{read}");
+    // ... in the place of the oldest subscriber of one of the two, which is closed.
+    let oldest = [0, per_peer];
+    let mut closed = 0;
+    for index in oldest {
+        let client = held.get_mut(index).expect("a client");
+        let ended = tokio::time::timeout(Duration::from_secs(2), async {
+            while client.next().await.is_some() {}
+        })
+        .await;
+        closed += usize::from(ended.is_ok());
+    }
+    assert_eq!(closed, 1, "one oldest subscriber gave its place");
+}

@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use crate::common::{serve, Client, WAIT};
+use crate::common::{serve, tcp_from, Client, WAIT};
 use cooperation_server::{Credentials, GuessLimits, Options};
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 
@@ -27,19 +27,7 @@ pub(crate) async fn connect_from(
             format!("Bearer {token}").parse().expect("a header"),
         );
     }
-    let target: std::net::SocketAddr = url
-        .trim_start_matches("ws://")
-        .trim_end_matches('/')
-        .parse()
-        .expect("the node's address");
-    let socket = tokio::net::TcpSocket::new_v4().expect("a socket");
-    socket
-        .bind(format!("{source}:0").parse().expect("an address"))
-        .expect("bound to the source address");
-    let stream = tokio::time::timeout(WAIT, socket.connect(target))
-        .await
-        .expect("connected in time")
-        .expect("connected");
+    let stream = tcp_from(url, source).await;
     match tokio::time::timeout(WAIT, tokio_tungstenite::client_async(request, stream))
         .await
         .expect("answered in time")

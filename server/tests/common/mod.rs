@@ -102,6 +102,23 @@ pub fn status(n: u128, safe: bool, distance: f32) -> Value {
     })
 }
 
+/// A TCP connection to the node at `url` from the local address `source` (`127.0.0.2`).
+pub async fn tcp_from(url: &str, source: &str) -> TcpStream {
+    let target: std::net::SocketAddr = url
+        .trim_start_matches("ws://")
+        .trim_end_matches('/')
+        .parse()
+        .expect("the node's address");
+    let socket = tokio::net::TcpSocket::new_v4().expect("a socket");
+    socket
+        .bind(format!("{source}:0").parse().expect("an address"))
+        .expect("bound to the source address");
+    tokio::time::timeout(WAIT, socket.connect(target))
+        .await
+        .expect("connected in time")
+        .expect("connected")
+}
+
 impl Client {
     pub async fn connect(url: &str) -> Self {
         let (ws, _) = tokio::time::timeout(WAIT, tokio_tungstenite::connect_async(url))
@@ -122,10 +139,38 @@ impl Client {
                 format!("Bearer {token}").parse().expect("a header"),
             );
         }
-        match tokio::time::timeout(WAIT, tokio_tungstenite::connect_async(request))
+        Self::settle(
+            url,
+            tokio::time::timeout(WAIT, tokio_tungstenite::connect_async(request))
+                .await
+                .expect("answered in time"),
+        )
+    }
+
+    /// Connects from the local address `source` (`127.0.0.2`), without a credential: the
+    /// client, or the HTTP status it was refused with.
+    pub async fn connect_from(url: &str, source: &str) -> Result<Self, u16> {
+        let stream = tcp_from(url, source).await;
+        Self::settle(
+            url,
+            tokio::time::timeout(
+                WAIT,
+                tokio_tungstenite::client_async(url, MaybeTlsStream::Plain(stream)),
+            )
             .await
-            .expect("answered in time")
-        {
+            .expect("answered in time"),
+        )
+    }
+
+    /// The client of a handshake's result, or the HTTP status it was refused with.
+    fn settle<R>(
+        url: &str,
+        result: Result<
+            (WebSocketStream<MaybeTlsStream<TcpStream>>, R),
+            tokio_tungstenite::tungstenite::Error,
+        >,
+    ) -> Result<Self, u16> {
+        match result {
             Ok((ws, _)) => Ok(Self { ws, next_id: 0 }),
             Err(tokio_tungstenite::tungstenite::Error::Http(response)) => {
                 Err(response.status().as_u16())
