@@ -20,6 +20,7 @@ pub mod connection;
 mod fair;
 pub mod front;
 pub mod guesses;
+mod keyring;
 pub mod node;
 mod panel;
 mod prefix;
@@ -49,6 +50,7 @@ pub use auth::{Credentials, Grant};
 pub use connection::Limits;
 pub use front::Admission;
 pub use guesses::GuessLimits;
+pub use keyring::Reloaded;
 pub use node::{Node, Topic};
 
 /// How the node runs.
@@ -99,9 +101,8 @@ struct App {
     clients: Arc<fair::Fair>,
     /// How many.
     max_clients: usize,
-    credentials: Option<Arc<Credentials>>,
-    /// Each credential's places, in the credentials' order.
-    places: Arc<[Arc<Semaphore>]>,
+    /// The credentials in force, with their places; `None`: a node without credentials.
+    keyring: Option<Arc<keyring::Keyring>>,
     limits: Limits,
     access: Arc<Access>,
     refusals: Arc<refusals::Refusals>,
@@ -159,6 +160,31 @@ pub async fn serve(
     options: Options,
     shutdown: impl std::future::Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
+    serve_reloading(
+        listener,
+        node,
+        options,
+        futures_util::stream::pending(),
+        shutdown,
+    )
+    .await
+}
+
+/// [`serve`], putting in force each set of credentials `reloads` yields: a credential that is
+/// unchanged keeps its places and connections, every other one of the old set is revoked (its
+/// connections closed, its token refused from then on), and a new one gets places of its own.
+/// Each reload is logged with what it kept, revoked and added. A node without credentials
+/// ignores them, saying so in its log.
+///
+/// # Errors
+/// As [`serve`].
+pub async fn serve_reloading(
+    listener: TcpListener,
+    node: Arc<Node>,
+    options: Options,
+    reloads: impl futures_util::Stream<Item = Credentials> + Send + 'static,
+    shutdown: impl std::future::Future<Output = ()> + Send + 'static,
+) -> std::io::Result<()> {
     if let Some(problem) = options.problem() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -170,16 +196,6 @@ pub async fn serve(
         .update(|engine| engine.set_publish_every_ms(every_ms));
     let mut publisher = tokio::spawn(publish(Arc::clone(&node)));
     let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
-    let places = options
-        .credentials
-        .iter()
-        .flat_map(|credentials| {
-            credentials
-                .list()
-                .iter()
-                .map(|_| Arc::new(Semaphore::new(credentials.places)))
-        })
-        .collect();
     let refusals = Arc::new(refusals::Refusals::default());
     let summaries = tokio::spawn(sum_up(
         Arc::clone(&refusals),
@@ -189,13 +205,15 @@ pub async fn serve(
         node,
         clients: fair::Fair::new(options.max_clients),
         max_clients: options.max_clients,
-        credentials: options.credentials.map(Arc::new),
-        places,
+        keyring: options
+            .credentials
+            .map(|credentials| Arc::new(keyring::Keyring::new(credentials))),
         limits: options.limits,
         access: Arc::new(options.access),
         refusals: Arc::clone(&refusals),
         guesses: Arc::new(guesses::Guesses::new(options.guesses)),
     };
+    let reloader = tokio::spawn(reload(app.keyring.clone(), reloads));
     let router = Router::new()
         .route("/", get(root))
         .route("/whoami", get(who::whoami))
@@ -215,7 +233,36 @@ pub async fn serve(
     publisher.abort();
     ticker.abort();
     summaries.abort();
+    reloader.abort();
     served
+}
+
+/// Puts each set of credentials `reloads` yields in force.
+async fn reload(
+    keyring: Option<Arc<keyring::Keyring>>,
+    reloads: impl futures_util::Stream<Item = Credentials> + Send,
+) {
+    use futures_util::StreamExt;
+    let mut reloads = std::pin::pin!(reloads);
+    while let Some(credentials) = reloads.next().await {
+        let Some(keyring) = &keyring else {
+            tracing::warn!(
+                "credentials to reload, but this node serves without credentials: ignored"
+            );
+            continue;
+        };
+        let Reloaded {
+            kept,
+            revoked,
+            added,
+        } = keyring.reload(credentials);
+        tracing::warn!(
+            kept = %kept.join(", "),
+            revoked = %revoked.join(", "),
+            added = %added.join(", "),
+            "credentials reloaded"
+        );
+    }
 }
 
 /// Ends a period of the log of refusals every `every`.

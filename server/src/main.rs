@@ -30,7 +30,8 @@ struct Args {
     #[arg(long, default_value_t = 256)]
     max_clients: usize,
     /// The credentials file: one operator or planning module a line, with its token; a client
-    /// must present one (docs/server.md, "Who may connect").
+    /// must present one (docs/server.md, "Who may connect"). Read again on SIGHUP: a credential
+    /// dropped or changed is revoked at once.
     #[arg(long, value_name = "FILE")]
     credentials: Option<PathBuf>,
     /// Connections each credential may have open at once.
@@ -106,15 +107,7 @@ async fn run(args: Args) -> Result<(), String> {
     )
     .map_err(|error| error.to_string())?;
     let credentials = match &args.credentials {
-        Some(path) => {
-            let text = cooperation_server::auth::read_file(path)?;
-            let rtc = cooperation_adapters::rtc::Rtc::standard();
-            let interfaces: Vec<&str> = rtc.bindings().iter().map(|b| b.name.as_str()).collect();
-            Some(
-                Credentials::parse(&text, &interfaces, args.per_credential)
-                    .map_err(|error| format!("{}: {error}", path.display()))?,
-            )
-        }
+        Some(path) => Some(read_credentials(path, args.per_credential)?),
         None => None,
     };
     if credentials.is_none() && !args.listen.ip().is_loopback() && !args.anonymous {
@@ -164,7 +157,8 @@ async fn run(args: Args) -> Result<(), String> {
         let _ = tokio::signal::ctrl_c().await;
         tracing::info!("shutting down");
     };
-    let served = cooperation_server::serve(listener, node, options, shutdown)
+    let reloads = reloads(args.credentials.clone(), args.per_credential);
+    let served = cooperation_server::serve_reloading(listener, node, options, reloads, shutdown)
         .await
         .map_err(|error| error.to_string());
     let stopped = dds.map_or(Ok(()), |(stop, door)| {
@@ -174,6 +168,45 @@ async fn run(args: Args) -> Result<(), String> {
             .and_then(|ran| ran)
     });
     served.and(stopped)
+}
+
+/// The credentials file at `path`, read and checked.
+fn read_credentials(path: &std::path::Path, places: usize) -> Result<Credentials, String> {
+    let text = cooperation_server::auth::read_file(path)?;
+    let rtc = cooperation_adapters::rtc::Rtc::standard();
+    let interfaces: Vec<&str> = rtc.bindings().iter().map(|b| b.name.as_str()).collect();
+    Credentials::parse(&text, &interfaces, places)
+        .map_err(|error| format!("{}: {error}", path.display()))
+}
+
+/// The credentials file read again on each SIGHUP, for as long as the node runs: a file that
+/// does not read is logged and leaves the credentials in force as they are. Nothing without a
+/// file.
+fn reloads(
+    path: Option<PathBuf>,
+    places: usize,
+) -> impl futures_util::Stream<Item = Credentials> + Send + 'static {
+    use tokio::signal::unix::{signal, SignalKind};
+    let hangups = path.and_then(|path| match signal(SignalKind::hangup()) {
+        Ok(hangups) => Some((hangups, path)),
+        Err(error) => {
+            tracing::error!(%error, "SIGHUP cannot be watched: the credentials are read once");
+            None
+        }
+    });
+    futures_util::stream::unfold(hangups, move |hangups| async move {
+        let (mut hangups, path) = hangups?;
+        loop {
+            hangups.recv().await?;
+            match read_credentials(&path, places) {
+                Ok(credentials) => return Some((credentials, Some((hangups, path)))),
+                Err(error) => tracing::error!(
+                    "SIGHUP: the credentials file does not read, the credentials in force stay: \
+                     {error}"
+                ),
+            }
+        }
+    })
 }
 
 /// The DDS door: `cooperation-dds`'s node on `node`'s engine and clock, polled by a thread of

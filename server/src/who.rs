@@ -18,10 +18,10 @@ use axum::extract::State as Extracted;
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode, Uri};
 use axum::response::{IntoResponse, Response};
 use serde::Serialize;
-use tokio::sync::Semaphore;
 
 use crate::auth::{self, Grant, Role};
 use crate::fair::Fair;
+use crate::keyring::Entry;
 use crate::{front, App};
 
 /// A request's grant, and the places it takes a connection from.
@@ -37,7 +37,7 @@ pub(crate) struct Who {
 /// The places a connection takes one of.
 enum Places {
     /// Its credential's own.
-    Credential(Arc<Semaphore>),
+    Credential(Arc<Entry>),
     /// Those of a node without credentials, shared fairly by address prefix.
     Anyone(Arc<Fair>),
 }
@@ -56,9 +56,16 @@ pub(crate) fn take_place(
     address: Option<SocketAddr>,
 ) -> Option<(Held, Stop)> {
     match &who.places {
-        Places::Credential(places) => {
-            let permit = Arc::clone(places).try_acquire_owned().ok()?;
-            Some((Box::new(permit), Box::pin(std::future::pending())))
+        Places::Credential(entry) => {
+            let permit = Arc::clone(&entry.places).try_acquire_owned().ok()?;
+            let revoked = entry.revoked();
+            let refusals = Arc::clone(&app.refusals);
+            let peer = address.map_or_else(|| "unknown".to_owned(), |address| address.to_string());
+            let stop = async move {
+                revoked.await;
+                refusals.log(&peer, "a client closed: its credential was revoked");
+            };
+            Some((Box::new(permit), Box::pin(stop)))
         }
         Places::Anyone(fair) => {
             let address =
@@ -115,13 +122,15 @@ pub(crate) fn identify(
     headers: &HeaderMap,
     uri: &Uri,
 ) -> Result<Who, Box<Response>> {
-    let Some(credentials) = &app.credentials else {
+    let Some(keyring) = &app.keyring else {
         return Ok(Who {
             grant: Grant::Anyone,
             places: Places::Anyone(Arc::clone(&app.clients)),
             most: app.max_clients,
         });
     };
+    let set = keyring.current();
+    let credentials = &set.credentials;
     let ip = peer.map(|peer| peer.address.ip());
     let now = Instant::now();
     if let Some(left) = ip.and_then(|ip| app.guesses.locked(ip, now)) {
@@ -157,7 +166,7 @@ pub(crate) fn identify(
             return Err(Box::new(response));
         }
     };
-    let (Some(credential), Some(places)) = (credentials.list().get(index), app.places.get(index))
+    let (Some(credential), Some(entry)) = (credentials.list().get(index), set.entries.get(index))
     else {
         return Err(Box::new(refuse(
             app,
@@ -171,7 +180,7 @@ pub(crate) fn identify(
     }
     Ok(Who {
         grant: Grant::Credential(credential.clone()),
-        places: Places::Credential(Arc::clone(places)),
+        places: Places::Credential(Arc::clone(entry)),
         most: credentials.places,
     })
 }
@@ -220,7 +229,7 @@ pub(crate) async fn whoami(
         Err(refused) => return *refused,
     };
     let open = match &who.places {
-        Places::Credential(places) => who.most.saturating_sub(places.available_permits()),
+        Places::Credential(entry) => who.most.saturating_sub(entry.places.available_permits()),
         Places::Anyone(fair) => fair.held(),
     };
     let answer = match who.grant {

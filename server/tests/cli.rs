@@ -136,3 +136,86 @@ fn the_default_settings_are_built_in() {
     let log = String::from_utf8_lossy(&output.stderr);
     assert!(log.contains("0 clients: give from 1 to"), "{log}");
 }
+
+/// SIGHUP reads the credentials file again: a credential dropped from it is revoked (its
+/// connection closed, its token refused) and a new one let in; a file that does not read is
+/// logged and leaves the credentials in force.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn sighup_reloads_the_credentials_file() {
+    use crate::common::Client;
+    use std::io::Read;
+    const FIRST: &str = "first-operator-token-0123456789ab";
+    const SECOND: &str = "second-operator-token-0123456789";
+    let dir = std::env::temp_dir().join(format!("cooperation-server-hup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let file = dir.join("credentials");
+    let write = |text: String, mode: u32| {
+        std::fs::write(&file, text).expect("written");
+        set_mode(&file, mode);
+    };
+    write(format!("operator first {FIRST}\n"), 0o600);
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|probe| probe.local_addr())
+        .expect("a free port")
+        .port();
+    let mut node = Command::new(env!("CARGO_BIN_EXE_cooperation-server"))
+        .args(["--listen", &format!("127.0.0.1:{port}"), "--credentials"])
+        .arg(&file)
+        .env("RUST_LOG", "info")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let url = format!("ws://127.0.0.1:{port}/");
+    let hangup = |node: &std::process::Child| {
+        let sent = Command::new("kill")
+            .args(["-HUP", &node.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+    };
+    let mut first = None;
+    for _ in 0..100 {
+        if tokio::net::TcpStream::connect(("127.0.0.1", port))
+            .await
+            .is_ok()
+        {
+            first = Client::connect_as(&url, Some(FIRST)).await.ok();
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+    }
+    let mut first = first.expect("the first operator in");
+    write(format!("operator second {SECOND}\n"), 0o600);
+    hangup(&node);
+    let ended = tokio::time::timeout(std::time::Duration::from_secs(5), async {
+        while first.next().await.is_some() {}
+    })
+    .await;
+    assert!(
+        ended.is_ok(),
+        "the revoked credential's connection stays open"
+    );
+    assert_eq!(Client::connect_as(&url, Some(FIRST)).await.err(), Some(401));
+    assert!(Client::connect_as(&url, Some(SECOND)).await.is_ok());
+    // A file others may read does not read: the node says so and goes on as it was.
+    write(format!("operator third {FIRST}\n"), 0o644);
+    hangup(&node);
+    tokio::time::sleep(std::time::Duration::from_millis(300)).await;
+    assert!(Client::connect_as(&url, Some(SECOND)).await.is_ok());
+    assert_eq!(Client::connect_as(&url, Some(FIRST)).await.err(), Some(401));
+    node.kill().expect("stopped");
+    let mut log = String::new();
+    node.stderr
+        .take()
+        .expect("its log")
+        .read_to_string(&mut log)
+        .expect("read");
+    let _ = node.wait();
+    std::fs::remove_dir_all(&dir).expect("removed");
+    assert!(log.contains("credentials reloaded"), "{log}");
+    assert!(log.contains("revoked=first"), "{log}");
+    assert!(
+        log.contains("SIGHUP: the credentials file does not read"),
+        "{log}"
+    );
+}

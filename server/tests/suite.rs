@@ -14,6 +14,7 @@ mod guesses;
 mod limits;
 mod load;
 mod protocol;
+mod revoke;
 mod scenes;
 mod subscriptions;
 mod time;

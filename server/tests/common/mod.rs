@@ -56,15 +56,25 @@ pub async fn serve_config(config: cooperation::Config, options: Options, quota: 
 
 /// Serves `node` with `options` on a loopback port.
 pub async fn serve_node(node: Arc<Node>, options: Options) -> Served {
+    serve_reloading(node, options, futures_util::stream::pending()).await
+}
+
+/// Serves `node` with `options` on a loopback port, reloading the credentials `reloads` yields.
+pub async fn serve_reloading(
+    node: Arc<Node>,
+    options: Options,
+    reloads: impl futures_util::Stream<Item = cooperation_server::Credentials> + Send + 'static,
+) -> Served {
     let listener = cooperation_server::bind("127.0.0.1:0".parse().expect("an address"))
         .await
         .expect("a loopback port");
     let url = format!("ws://{}/", listener.local_addr().expect("its address"));
     let (stop, stopped) = oneshot::channel::<()>();
-    tokio::spawn(cooperation_server::serve(
+    tokio::spawn(cooperation_server::serve_reloading(
         listener,
         Arc::clone(&node),
         options,
+        reloads,
         async move {
             let _ = stopped.await;
         },
