@@ -16,6 +16,8 @@
 //!   rounds, so load from elsewhere falls on all of them alike.
 //! - **Delivery.** The time from calling `Node::publish` to each of 1 and 100 subscribers
 //!   having received both topics' frames.
+//! - **Fairness.** `get_policies` round trips from one client while another sends syncs of
+//!   1,024 statuses back to back, against the same on the otherwise idle node, as ratios.
 //!
 //! The node's periodic publication and its clock are set to an hour, so the only publications
 //! are those the commands cause and those the benchmark makes, and no scene expires.
@@ -38,12 +40,16 @@ use tokio::sync::{mpsc, Barrier};
 use tokio_tungstenite::tungstenite::Message;
 
 mod delivery;
+mod fairness;
 mod in_process;
+mod summary;
 
 use delivery::delivery;
+use fairness::{fairness, HEAVY_ENTRIES};
 use in_process::{
     in_process, CALL, CONVERT, CORE_COMMAND, JSON_SERVICE, PUBLISH, QUERY, QUERY_KEYED, SERIALIZE,
 };
+use summary::{share, show, Summary};
 
 /// Live scenes while everything is measured.
 const SCENES: usize = 500;
@@ -149,68 +155,6 @@ fn load_average() -> String {
         .unwrap_or_default()
 }
 
-/// Percentiles of a set of durations.
-struct Summary {
-    count: usize,
-    p50: Duration,
-    p99: Duration,
-    max: Duration,
-    mean: Duration,
-}
-
-impl Summary {
-    fn of(mut samples: Vec<Duration>) -> Self {
-        samples.sort_unstable();
-        let count = samples.len();
-        let at = |fraction: f64| -> Duration {
-            if count == 0 {
-                return Duration::ZERO;
-            }
-            let rank = ((fraction * count as f64).ceil() as usize).clamp(1, count);
-            samples[rank - 1]
-        };
-        let total: Duration = samples.iter().sum();
-        Self {
-            count,
-            p50: at(0.50),
-            p99: at(0.99),
-            max: samples.last().copied().unwrap_or_default(),
-            mean: if count == 0 {
-                Duration::ZERO
-            } else {
-                total / u32::try_from(count).unwrap_or(u32::MAX)
-            },
-        }
-    }
-}
-
-/// A duration for a table: ns below 1 µs, µs below 10 ms, ms above.
-fn show(duration: Duration) -> String {
-    let micros = duration.as_secs_f64() * 1e6;
-    if micros < 1.0 {
-        format!("{:.0} ns", micros * 1_000.0)
-    } else if micros < 10.0 {
-        format!("{micros:.2} µs")
-    } else if micros < 10_000.0 {
-        format!("{micros:.0} µs")
-    } else {
-        format!("{:.1} ms", micros / 1_000.0)
-    }
-}
-
-/// `part` as a percentage of `whole`, to two significant digits below 10 %.
-fn share(part: Duration, whole: Duration) -> String {
-    if whole.is_zero() {
-        return "–".to_owned();
-    }
-    let percent = 100.0 * part.as_secs_f64() / whole.as_secs_f64();
-    if percent >= 10.0 || percent <= 0.0 {
-        return format!("{percent:.1} %");
-    }
-    let decimals = (1.0 - percent.log10().floor()).max(1.0) as usize;
-    format!("{percent:.decimals$} %")
-}
-
 /// What an operator client asks.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Ask {
@@ -309,6 +253,17 @@ async fn operator(
     Ok(latencies)
 }
 
+/// Runs `work` on a single-threaded runtime of its own (on the calling thread).
+fn on_own_runtime<T>(
+    work: impl std::future::Future<Output = Result<T, String>>,
+) -> Result<T, String> {
+    tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|error| error.to_string())?
+        .block_on(work)
+}
+
 /// One round-trip case's results.
 struct Case {
     label: String,
@@ -346,18 +301,14 @@ async fn round_trips(
     let other = bystander.then(|| {
         let (start, watching) = (Arc::clone(&start), watching.clone());
         std::thread::spawn(move || {
-            tokio::runtime::Builder::new_current_thread()
-                .enable_all()
-                .build()
-                .map_err(|error| error.to_string())?
-                .block_on(operator(
-                    address,
-                    Ask::GetPolicies,
-                    (clients, clients + 1),
-                    ROUND_TRIPS,
-                    start,
-                    watching,
-                ))
+            on_own_runtime(operator(
+                address,
+                Ask::GetPolicies,
+                (clients, clients + 1),
+                ROUND_TRIPS,
+                start,
+                watching,
+            ))
         })
     });
     start.wait().await;
@@ -492,6 +443,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (each, all) = clients.block_on(delivery(address, &node, count, rounds))?;
         deliveries.push((count, each, all));
     }
+    let fair = fairness(&clients, address)?;
     let live_after = node.shared().read(|host| host.state().scene_count());
     let load_after = load_average();
 
@@ -583,6 +535,37 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             show(all.p50),
             show(all.p99),
             share(publish.p50, all.p50),
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\n### One client's heavy requests beside another's `get_policies`\n"
+    );
+    let _ = writeln!(
+        out,
+        "| what | round trips | p50 | p99 | max | p50 / idle | p99 / idle |"
+    );
+    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|");
+    for (what, summary) in [
+        ("`get_policies`, the node otherwise idle", &fair.idle),
+        (
+            &*format!("`get_policies` beside one client's {HEAVY_ENTRIES}-status syncs"),
+            &fair.beside,
+        ),
+        (
+            &*format!("the {HEAVY_ENTRIES}-status syncs themselves"),
+            &fair.heavy,
+        ),
+    ] {
+        let _ = writeln!(
+            out,
+            "| {what} | {} | {} | {} | {} | {:.1} | {:.1} |",
+            summary.count,
+            show(summary.p50),
+            show(summary.p99),
+            show(summary.max),
+            summary.p50.as_secs_f64() / fair.idle.p50.as_secs_f64(),
+            summary.p99.as_secs_f64() / fair.idle.p99.as_secs_f64(),
         );
     }
     print!("{out}");
