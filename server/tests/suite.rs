@@ -7,6 +7,7 @@ mod auth;
 mod cli;
 mod common;
 mod definitions;
+mod fairness;
 mod faults;
 mod frames;
 mod front_door;
