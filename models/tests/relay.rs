@@ -617,3 +617,37 @@ fn coop_relay_policy_1_a_switch_the_module_answered_is_not_sent_again() {
         );
     }
 }
+
+#[test]
+fn coop_relay_follow_1_a_queued_switch_the_module_has_since_taken_is_not_sent() {
+    // Required, the module's auto mode off; the operator makes it optional before the relay
+    // has heard from the module, so the relay queues the switch on when it does ...
+    let mut bench = Bench::new(true);
+    bench.register(LANE, 1, false);
+    let response = bench.operator(policy("lane-change", Policy::Optional));
+    assert!(status(&response).success);
+    bench.cycle();
+    // ... but before it is handed out, someone else switches the module on, and the relay is
+    // told: the queued switch is not sent.
+    bench.module(LANE).enable_auto_mode(true);
+    bench.cycle();
+    let now = bench.now();
+    if let Some(forward) = bench.relay.poll_forward(now) {
+        let answer = match &forward.request {
+            ModuleRequest::AutoMode(request) => {
+                assert!(
+                    !request.enable,
+                    "a switch to the auto mode the module was heard to have"
+                );
+                ModuleAnswer::AutoMode(bench.module(LANE).enable_auto_mode(request.enable))
+            }
+            ModuleRequest::Commands(request) => {
+                ModuleAnswer::Commands(bench.module(LANE).cooperate_commands(request))
+            }
+        };
+        assert!(bench.relay.take_answer(forward.call, &answer, now));
+    }
+    // The module, left alone, drives as the AD API shows.
+    bench.settle();
+    bench.assert_follows();
+}

@@ -457,6 +457,19 @@ impl Relay {
     /// The next call to send, at `now`: the first queued to a module with no call unanswered
     /// (so a module takes the relay's calls in the order they were made).
     pub fn poll_forward(&mut self, now: Now) -> Option<Forward> {
+        // A switch of the relay's own that the module has been heard to have taken since it was
+        // queued is not sent: each switch overwrites the module's standing decisions for a
+        // moment (`[COOP-RELAY-FOLLOW.1]`).
+        let links = &self.links;
+        self.queued.retain(|(_, call)| {
+            let moot = |enable: bool| {
+                links
+                    .get(&call.interface)
+                    .is_some_and(|link| link.auto_mode == Some(enable))
+            };
+            !(call.purpose == Purpose::Correction
+                && matches!(&call.request, ModuleRequest::AutoMode(request) if moot(request.enable)))
+        });
         let at = self.queued.iter().position(|(_, call)| {
             !self
                 .flights

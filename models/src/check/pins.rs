@@ -210,13 +210,13 @@ pub const RTC_QUOTA: Pin = Pin {
 };
 
 /// The relay model: an operator and one upstream planning module, 1 identifier, 2 operator
-/// calls, 1 module move, 1 loss.
+/// calls, 1 module move, 1 loss, a status array ahead of its auto-mode status.
 pub const RELAY_1: Pin = Pin {
     test: "models/tests/relay_model.rs::the_relay_meets_its_rules",
     model: "relay",
-    bounds: "1 id, 2 calls, 1 move, 1 loss",
+    bounds: "1 id, 2 calls, 1 move, 1 loss, split",
     search: "BFS",
-    unique: 166_464,
+    unique: 413_864,
     generated: None,
 };
 
@@ -226,7 +226,7 @@ pub const RELAY_2: Pin = Pin {
     model: "relay",
     bounds: "2 ids, 2 calls, 1 move, 1 loss",
     search: "BFS",
-    unique: 3_847_635,
+    unique: 4_131_892,
     generated: None,
 };
 
@@ -235,9 +235,9 @@ pub const RELAY_2: Pin = Pin {
 pub const RELAY_1_TWO_MOVES: Pin = Pin {
     test: "models/tests/relay_model.rs::the_relay_meets_its_rules_with_two_module_moves",
     model: "relay",
-    bounds: "1 id, 2 calls, 2 moves, 1 loss",
+    bounds: "1 id, 2 calls, 2 moves, 1 loss, split",
     search: "BFS",
-    unique: 1_324_594,
+    unique: 3_518_761,
     generated: None,
 };
 

@@ -16,7 +16,7 @@ mod properties;
 
 pub mod peer;
 
-pub use properties::{properties, FOLLOW, SCENES, SHOWN, SUCCESS};
+pub use properties::{properties, FOLLOW, SCENES, SHOWN, SUCCESS, SWITCH};
 
 use std::collections::BTreeSet;
 
@@ -77,6 +77,10 @@ pub struct RelayBounds {
     pub module_moves: u8,
     /// Calls and answers lost, together.
     pub losses: u8,
+    /// Whether a status array may reach the relay ahead of the auto-mode status published with
+    /// it ([`RelayAction::PublishArray`]): they are two topics. It multiplies the states about
+    /// 2.4 times.
+    pub split: bool,
 }
 
 /// An action of the relay model.
@@ -100,6 +104,9 @@ pub enum RelayAction {
     Switch(bool),
     /// The module publishes its status array and auto mode; the relay takes them.
     Publish,
+    /// The module's status array arrives ahead of its auto-mode status, which comes with the
+    /// next publication (they are two topics).
+    PublishArray,
     /// The relay hands out its next call, and the module gets it and answers.
     Send,
     /// The relay hands out its next call, and it is lost.
@@ -120,6 +127,8 @@ pub enum RelayAction {
 pub mod broken {
     /// A call answered as a success although a command of it was not taken by the module.
     pub const SUCCESS: u8 = 1;
+    /// A switch of the relay's own to the auto mode it was last told the module has.
+    pub const NEEDLESS: u8 = 2;
 }
 
 /// A state of the relay model.
@@ -133,6 +142,11 @@ pub struct RelayStep {
     pub used: BTreeSet<SceneId>,
     /// The module changed since it last published.
     pub dirty: bool,
+    /// Its newest array has reached the relay ahead of its auto-mode status
+    /// ([`RelayAction::PublishArray`]).
+    pub array_ahead: bool,
+    /// The auto mode the module last published.
+    pub published_auto: Option<bool>,
     /// The module as it was when it published last (for [`RelayFault::LateArrayRestamped`]).
     pub last_published: Option<Upstream>,
     /// Publications so far: the stamp of the next.
@@ -151,6 +165,12 @@ pub struct RelayStep {
     pub spent: (u8, u8, u8),
     /// Sticky flags ([`broken`]).
     pub broken: u8,
+    /// The auto mode the relay was last told the module has (oracle): the module's at a
+    /// publication, or the one a switch's answer says it took; unknown from when the relay
+    /// hands out a switch until it is told again.
+    pub told: Option<bool>,
+    /// The auto mode each switch on its way asked for, until its answer is taken or lost.
+    pub switching: Vec<(cooperation_adapters::relay::CallId, bool)>,
 }
 
 impl Representative for RelayStep {
@@ -242,7 +262,9 @@ impl RelayModel {
         })
     }
 
-    fn publish(&self, next: &mut RelayStep) {
+    /// The module's status array reaches the relay, and with `auto_mode` its auto-mode status
+    /// too; without it the module still has something to publish.
+    fn publish(&self, next: &mut RelayStep, auto_mode: bool) {
         next.publications += 1;
         let stamp = Time::new(i32::try_from(next.publications).unwrap_or(i32::MAX), 0);
         let mut array = next.module.status_array(stamp);
@@ -254,10 +276,16 @@ impl RelayModel {
         let now = next.now();
         // A refused array changes nothing; the relay's refusal is logged by a host.
         drop(next.relay.take_statuses(INTERFACE, &array, now));
+        next.array_ahead = !auto_mode;
+        if !auto_mode {
+            return;
+        }
         drop(
             next.relay
                 .take_auto_mode(INTERFACE, &next.module.auto_mode_status(), now),
         );
+        next.told = Some(next.module.auto_mode);
+        next.published_auto = Some(next.module.auto_mode);
         next.dirty = false;
     }
 
@@ -283,6 +311,7 @@ impl RelayModel {
                 ModuleAnswer::Commands(response)
             }
             ModuleRequest::AutoMode(request) => {
+                next.switching.push((forward.call, request.enable));
                 ModuleAnswer::AutoMode(next.module.enable_auto_mode(request.enable))
             }
         };
@@ -382,6 +411,10 @@ impl Model for RelayModel {
             clock_ms: 0,
             spent: (0, 0, 0),
             broken: 0,
+            array_ahead: false,
+            published_auto: None,
+            told: None,
+            switching: Vec::new(),
         }]
     }
 
@@ -419,6 +452,13 @@ impl Model for RelayModel {
         if state.dirty || auto != Some(state.module.auto_mode) || (!fresh && state.relay.is_idle())
         {
             actions.push(RelayAction::Publish);
+            // Which of the two topics comes first matters only when the auto mode changed.
+            if self.bounds.split
+                && !state.array_ahead
+                && state.published_auto != Some(state.module.auto_mode)
+            {
+                actions.push(RelayAction::PublishArray);
+            }
         }
         let lose = state.spent.2 < self.bounds.losses;
         let mut probe = state.relay.clone();
@@ -487,10 +527,19 @@ impl Model for RelayModel {
                 next.spent.1 += 1;
                 next.dirty = true;
             }
-            RelayAction::Publish => self.publish(&mut next),
+            RelayAction::Publish => self.publish(&mut next, true),
+            RelayAction::PublishArray => self.publish(&mut next, false),
             RelayAction::Send | RelayAction::SendLost => {
                 let now = next.now();
                 let forward = next.relay.poll_forward(now)?;
+                if let ModuleRequest::AutoMode(request) = &forward.request {
+                    // With no operator's call waiting, the switch is the relay's own (an
+                    // operator's `set_policies` is always sent, `[COOP-RELAY-POLICY.1]`).
+                    if next.asked.is_empty() && next.told == Some(request.enable) {
+                        next.broken |= broken::NEEDLESS;
+                    }
+                    next.told = None;
+                }
                 if action == RelayAction::SendLost {
                     next.spent.2 += 1;
                     next.lost += 1;
@@ -509,12 +558,20 @@ impl Model for RelayModel {
             RelayAction::Answer(at) => {
                 let (call, answer) = next.answers.get(at)?.clone();
                 next.answers.remove(at);
+                if let Some(place) = next.switching.iter().position(|(of, _)| *of == call) {
+                    let (_, enable) = next.switching.remove(place);
+                    if answer == ModuleAnswer::AutoMode(true) {
+                        next.told = Some(enable);
+                    }
+                }
                 let now = next.now();
                 next.relay.take_answer(call, &answer, now);
             }
             RelayAction::LoseAnswer(at) => {
-                next.answers.get(at)?;
+                let (call, _) = next.answers.get(at)?;
+                let call = *call;
                 next.answers.remove(at);
+                next.switching.retain(|(of, _)| *of != call);
                 next.spent.2 += 1;
                 next.lost += 1;
             }

@@ -16,12 +16,21 @@ pub const SHOWN: &str =
     "COOP-RELAY-FORWARD.1: every operator decision the AD API shows is one the module took";
 /// `COOP-RELAY-FOLLOW.1`'s property.
 pub const FOLLOW: &str = "COOP-RELAY-FOLLOW.1, COOP-RELAY-POLICY.1: settled, the module drives every cancellable scene as the merged decision the AD API shows";
+/// `COOP-RELAY-FOLLOW.1`'s property on switches: a module's auto mode is what it last said,
+/// in a status or in a switch's answer, so a switch to that mode is never sent (each one
+/// overwrites the module's standing decisions for a moment).
+pub const SWITCH: &str =
+    "COOP-RELAY-FOLLOW.1: the relay never switches the module to the auto mode it was last told the module has";
 /// `COOP-RELAY-REPORT.1`'s property.
 pub const SCENES: &str =
     "COOP-RELAY-REPORT.1: settled, the AD API shows exactly the scenes the module lists, not finished";
 
 fn succeeded(_: &RelayModel, state: &RelayStep) -> bool {
     state.broken & broken::SUCCESS == 0
+}
+
+fn no_needless_switch(_: &RelayModel, state: &RelayStep) -> bool {
+    state.broken & broken::NEEDLESS == 0
 }
 
 fn shown_taken(_: &RelayModel, state: &RelayStep) -> bool {
@@ -91,6 +100,7 @@ pub fn properties() -> Vec<Property<RelayModel>> {
         Property::always(SUCCESS, succeeded),
         Property::always(SHOWN, shown_taken),
         Property::always(FOLLOW, follows),
+        Property::always(SWITCH, no_needless_switch),
         Property::always(SCENES, same_scenes),
         Property::sometimes(
             "witness: the module refuses a forwarded command",
