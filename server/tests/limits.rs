@@ -232,3 +232,46 @@ async fn a_report_that_changes_nothing_shown_is_not_published_on_its_own() {
         .await;
     operator.next_op("publish").await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_request_not_done_in_time_is_closed_headers_or_not() {
+    // Headers in time, but the body promised never comes: the request timeout closes it.
+    let served = serve(Options {
+        admission: Admission {
+            header_timeout: Duration::from_secs(20),
+            request_timeout: Duration::from_millis(300),
+            ..Admission::default()
+        },
+        ..Options::default()
+    })
+    .await;
+    let mut slow = TcpStream::connect(address(&served.url))
+        .await
+        .expect("connects");
+    slow.write_all(b"POST / HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 100\r\n\r\n0123456789")
+        .await
+        .expect("written");
+    assert!(closed_within(&mut slow, Duration::from_secs(3)).await);
+}
+
+/// The limits docs/server.md states are the defaults in force.
+#[test]
+fn the_documented_defaults_are_the_ones_in_force() {
+    let options = Options::default();
+    assert_eq!(options.max_clients, 256);
+    let admission = options.admission;
+    assert_eq!(admission.pending, 256);
+    assert_eq!(admission.per_peer, 128);
+    assert_eq!(admission.header_timeout, Duration::from_secs(5));
+    assert_eq!(admission.request_timeout, Duration::from_secs(30));
+    assert_eq!(admission.refusal_log_every, Duration::from_secs(10));
+    let limits = options.limits;
+    assert_eq!(limits.frame, 1 << 20);
+    assert_eq!(limits.hard_frame, 2 << 20);
+    assert_eq!(limits.queue, 64);
+    assert_eq!(limits.write_timeout, Duration::from_secs(10));
+    assert_eq!(limits.keepalive, Duration::from_secs(20));
+    assert_eq!(limits.idle, Duration::from_secs(60));
+    assert_eq!(cooperation_server::connection::MAX_SUBSCRIPTIONS, 64);
+    assert!(options.problem().is_none());
+}

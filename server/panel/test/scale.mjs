@@ -1,5 +1,5 @@
 // The operator panel at a real scale, in headless Chromium: 100 scenes, the two waiting for the
-// operator behind 97 nearer ones. What waits must come first, counted in the header and the
+// operator behind 98 nearer ones. What waits must come first, counted in the header and the
 // page's title, each saying why; "unsafe" must show on its row, and an override of an unsafe
 // module must stay marked; nothing may move under the pointer while scenes start waiting, end
 // and appear, or while "Confirm activate" shows; a policy switch must take a confirmation; and
