@@ -163,4 +163,17 @@ mod tests {
         );
         assert!(state.total <= 3);
     }
+
+    #[test]
+    fn an_ipv6_host_is_one_prefix_however_many_addresses_it_uses() {
+        let fair = Fair::new(2);
+        let (_a, _a_told, _) = fair.place(ip("2001:db8::1")).ok().expect("a place");
+        let (_b, _b_told, _) = fair.place(ip("2001:db8::2")).ok().expect("a place");
+        // Full, both held by one /64: another address of that /64 takes nothing ...
+        assert!(fair.place(ip("2001:db8::ffff:3")).is_err());
+        // ... while another /64 takes its oldest place.
+        let (_c, _c_told, took) = fair.place(ip("2001:db8:0:1::1")).ok().expect("a place");
+        assert!(took);
+        assert_eq!(fair.held(), 2);
+    }
 }

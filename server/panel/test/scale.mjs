@@ -120,8 +120,15 @@ async function run(state) {
   await unmoved(page, before, 'a scene was added');
   log('while the pointer rests on the scenes, a scene starting to wait, ending or appearing moves no button');
 
-  // The unsafe scene: its first click shows "Confirm activate", which moves no button.
+  // The unsafe scene: a first click's confirmation lapses after 5 s, having sent nothing.
   await page.locator(button(UNSAFE, ACTIVATE)).scrollIntoViewIfNeeded();
+  await page.click(button(UNSAFE, ACTIVATE), { timeout: STEP_MS });
+  await pageUntil(page, 'the first click asks for a confirmation', (selector) => document.querySelector(selector).dataset.confirm === 'true', button(UNSAFE, ACTIVATE));
+  await new Promise((resolve) => setTimeout(resolve, 5300));
+  if (await page.locator(`${button(UNSAFE, ACTIVATE)}[data-confirm="false"]`).count() !== 1) throw new Failure('the confirmation did not lapse after 5 s');
+  if (await page.locator(`${row(UNSAFE)} [data-col="cooperator"][data-decision="${ACTIVATE}"]`).count() !== 0) throw new Failure('an unconfirmed click activated the unsafe scene');
+  log('an unconfirmed first click lapses after 5 s and sends nothing');
+  // Its first click shows "Confirm activate", which moves no button.
   before = await places(page);
   await page.click(button(UNSAFE, ACTIVATE), { timeout: STEP_MS });
   await pageUntil(page, 'the first click asks for a confirmation', (selector) => document.querySelector(selector).dataset.confirm === 'true', button(UNSAFE, ACTIVATE));
