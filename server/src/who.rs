@@ -46,10 +46,12 @@ enum Places {
 /// credentials'.
 pub(crate) type Held = Box<dyn Send>;
 
-/// What completes when another client takes a connection's place.
+/// What completes when a connection must close: another client took its place, or its
+/// credential was revoked.
 pub(crate) type Stop = Pin<Box<dyn Future<Output = ()> + Send>>;
 
-/// A connection's place, and what completes when another client takes it.
+/// A connection's place, and what completes when the connection must close ([`Stop`]); none
+/// when every place is taken and none may be taken from another.
 pub(crate) fn take_place(
     app: &App,
     who: &Who,
