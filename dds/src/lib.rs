@@ -25,4 +25,4 @@ pub mod raw;
 pub mod stack;
 
 pub use node::{Node, Options};
-pub use stack::Stack;
+pub use stack::{Door, DoorCall, Stack};

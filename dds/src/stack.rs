@@ -5,18 +5,22 @@
 //! `/planning/auto_mode_status/<name>`, calls its `/planning/cooperate_commands/<name>` and
 //! `/planning/enable_auto_mode/<name>`, and serves the AD API's cooperation services and factor
 //! topics; what each message means is [`Relay`]'s to decide (spec §6.8). The node owns its
-//! relay: one thread polls every entity, so nothing is shared and nothing is locked.
+//! relay: one thread polls every entity, so nothing is shared and nothing is locked. Another
+//! door of the same process (`cooperation-server --stack`: the rosbridge WebSocket and the
+//! operator panel) reaches the relay through a [`Door`]: its calls are answered as the DDS
+//! clients' are, and it is shown every publication DDS gets.
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
-use cooperation_adapters::engine::{Engine, Now, Reply, Request};
+use cooperation_adapters::engine::{Engine, Now, Publication, Reply, Request};
 use cooperation_adapters::relay::{self, factors, ModuleAnswer, OperatorCall, Relay};
 use cooperation_adapters::wire::{self, Service};
-use rustdds::mio1::{Events, Interest, Poll, Token};
+use rustdds::mio1::{Events, Interest, Poll, Token, Waker};
 use rustdds::{DomainParticipant, RTPSEntity};
 
 use crate::entities::{wait, Factors, Participant, Replies, Server};
@@ -30,11 +34,34 @@ const MODULE_TOKENS: usize = 1_000;
 /// The poll tokens of the stack's factor readers.
 const INPUT_TOKENS: usize = 900;
 
+/// The poll token of the [`Door`]'s waker.
+const DOOR_TOKEN: usize = 899;
+
 /// An operator's call the modules have not all answered yet: where its reply goes.
-struct Awaiting {
-    server: usize,
-    client: [u8; 12],
-    header: RequestHeader,
+enum Awaiting {
+    /// A DDS client of server `server`.
+    Dds {
+        server: usize,
+        client: [u8; 12],
+        header: RequestHeader,
+    },
+    /// A call through the [`Door`].
+    Door(mpsc::Sender<Reply>),
+}
+
+/// A call through a [`Door`], and where its reply goes.
+pub type DoorCall = (Request, mpsc::Sender<Reply>);
+
+/// Another door of the process onto the stack's relay: its operators' calls, answered as the
+/// DDS clients' are (a call the modules must answer first is answered when they have, or their
+/// deadline passed), and every publication DDS gets, shown to it before the replies of the
+/// same turn are sent, so that a caller answered success is already shown its change.
+pub struct Door {
+    /// The door's calls; the node is woken for them by [`Stack::waker`].
+    pub calls: mpsc::Receiver<DoorCall>,
+    /// Shown each publication: the factors as DDS gets them (the stack's with the scenes'
+    /// statuses), and the scenes.
+    pub shown: Box<dyn FnMut(&Publication) + Send>,
 }
 
 /// The stack's own factors (`default_adapi`'s, remapped), the newest of each topic with when
@@ -135,6 +162,10 @@ pub struct Stack {
     replies: Replies,
     awaiting: BTreeMap<OperatorCall, Awaiting>,
     next_operator: u64,
+    door: Option<Door>,
+    /// The door's replies of this turn, sent after its publication.
+    door_replies: Vec<(mpsc::Sender<Reply>, Reply)>,
+    waker: Arc<Waker>,
     /// The interfaces whose status arrays are refused: the kind of reason last logged, and how
     /// many were refused for it since.
     refusing: BTreeMap<String, (std::mem::Discriminant<relay::ArrayError>, u64)>,
@@ -218,6 +249,8 @@ impl Stack {
             writers.extend(module_writers);
         }
         let graph = joined.announce(&options, &servers, &factors, readers, writers)?;
+        let waker = Waker::new(poll.registry(), Token(DOOR_TOKEN))
+            .map_err(|error| format!("poll: {error}"))?;
         Ok(Self {
             relay,
             clock: Clock::start(),
@@ -231,10 +264,25 @@ impl Stack {
             replies: Replies::default(),
             awaiting: BTreeMap::new(),
             next_operator: 0,
+            door: None,
+            door_replies: Vec::new(),
+            waker: Arc::new(waker),
             refusing: BTreeMap::new(),
             _graph: graph,
             _participant: joined.participant,
         })
+    }
+
+    /// Wakes the node: for a call sent through its [`Door`].
+    #[must_use]
+    pub fn waker(&self) -> Arc<Waker> {
+        Arc::clone(&self.waker)
+    }
+
+    /// Opens `door` (it replaces a door opened before), showing it the scenes as they stand.
+    pub fn open_door(&mut self, mut door: Door) {
+        (door.shown)(&self.relay.engine().publication(self.clock.stamp()));
+        self.door = Some(door);
     }
 
     /// The names of the interfaces it relays.
@@ -278,6 +326,7 @@ impl Stack {
         for index in 0..self.servers.len() {
             self.serve(index);
         }
+        self.serve_door();
         while let Some(forward) = self.relay.poll_forward(now) {
             match self
                 .modules
@@ -291,20 +340,65 @@ impl Stack {
             }
         }
         while let Some((call, response)) = self.relay.poll_answer() {
-            if let Some(awaiting) = self.awaiting.remove(&call) {
-                if let Some(server) = self.servers.get(awaiting.server) {
-                    self.replies.push(
-                        server,
-                        awaiting.server,
-                        awaiting.client,
-                        awaiting.header,
-                        &Reply::Ad(response),
-                    );
-                }
+            if let Some(to) = self.awaiting.remove(&call) {
+                self.deliver(to, Reply::Ad(response));
             }
         }
         self.replies.flush(&self.servers);
         self.publish(now);
+        for (to, reply) in self.door_replies.drain(..) {
+            // A caller that stopped waiting dropped its receiver: nothing to tell.
+            let _gone = to.send(reply);
+        }
+    }
+
+    /// Takes every call waiting at the door.
+    fn serve_door(&mut self) {
+        while let Some((request, reply)) = self
+            .door
+            .as_ref()
+            .and_then(|door| door.calls.try_recv().ok())
+        {
+            self.take(request, Awaiting::Door(reply));
+        }
+    }
+
+    /// Takes one request: answered at once, or once its modules answer; the answer goes `to`.
+    fn take(&mut self, request: Request, to: Awaiting) {
+        let endpoint = request.endpoint();
+        match request {
+            Request::Ad(request) => {
+                let call = OperatorCall(self.next_operator);
+                self.next_operator += 1;
+                match self.relay.handle_operator(call, &request, self.clock.now()) {
+                    Some(response) => self.deliver(to, Reply::Ad(response)),
+                    None => {
+                        self.awaiting.insert(call, to);
+                    }
+                }
+            }
+            Request::Malformed(endpoint, error) => {
+                self.deliver(to, Reply::refusal(endpoint, error));
+            }
+            Request::Sync(_) => self.deliver(to, Reply::refusal(endpoint, NO_SYNC.to_owned())),
+        }
+    }
+
+    /// Sends `reply` where `to` says: a DDS client's is framed for its server, the door's is
+    /// kept until the turn's publication.
+    fn deliver(&mut self, to: Awaiting, reply: Reply) {
+        match to {
+            Awaiting::Dds {
+                server: index,
+                client,
+                header,
+            } => {
+                if let Some(server) = self.servers.get(index) {
+                    self.replies.push(server, index, client, header, &reply);
+                }
+            }
+            Awaiting::Door(to) => self.door_replies.push((to, reply)),
+        }
     }
 
     /// Publishes the factors when the engine's are due or the stack's came
@@ -327,6 +421,14 @@ impl Stack {
         let steering =
             factors::steering(Input::fresh(self.input.steering.as_ref()), &scenes.steering);
         self.factors.write(&velocity, &steering);
+        if let Some(door) = &mut self.door {
+            (door.shown)(&Publication {
+                revision: scenes.revision,
+                velocity,
+                steering,
+                scenes: scenes.scenes.clone(),
+            });
+        }
     }
 
     /// Gives the relay what module `name` said; what it refuses is logged.
@@ -372,47 +474,26 @@ impl Stack {
         }
     }
 
-    /// Takes every request waiting at server `index`: answered at once, or once its modules
-    /// answer.
+    /// Takes every request waiting at server `index`.
     fn serve(&mut self, index: usize) {
-        loop {
-            let Some(server) = self.servers.get_mut(index) else {
-                return;
-            };
-            let endpoint = server.endpoint;
-            let Some((client, header, incoming)) = server.next_request() else {
-                return;
-            };
-            let reply = match incoming {
-                Request::Ad(request) => {
-                    let call = OperatorCall(self.next_operator);
-                    self.next_operator += 1;
-                    match self.relay.handle_operator(call, &request, self.clock.now()) {
-                        Some(response) => Reply::Ad(response),
-                        None => {
-                            self.awaiting.insert(
-                                call,
-                                Awaiting {
-                                    server: index,
-                                    client,
-                                    header,
-                                },
-                            );
-                            continue;
-                        }
-                    }
-                }
-                Request::Malformed(endpoint, error) => Reply::refusal(endpoint, error),
-                Request::Sync(_) => {
-                    Reply::refusal(endpoint, "the stack mode takes no sync requests".to_owned())
-                }
-            };
-            if let Some(server) = self.servers.get(index) {
-                self.replies.push(server, index, client, header, &reply);
-            }
+        while let Some((client, header, request)) =
+            self.servers.get_mut(index).and_then(Server::next_request)
+        {
+            self.take(
+                request,
+                Awaiting::Dds {
+                    server: index,
+                    client,
+                    header,
+                },
+            );
         }
     }
 }
+
+/// Why a module's sync is refused: the modules report on their own endpoints.
+const NO_SYNC: &str = "the stack mode takes no sync requests: planning modules report on their \
+                       own RTC endpoints (docs/autoware.md)";
 
 /// Whether a module's answer says it did what it was asked.
 fn answered(answer: &ModuleAnswer) -> bool {

@@ -192,8 +192,10 @@ pub async fn serve_reloading(
         ));
     }
     let every_ms = u64::try_from(options.publish_every.as_millis()).unwrap_or(u64::MAX);
-    node.shared()
-        .update(|engine| engine.set_publish_every_ms(every_ms));
+    // In the stack mode the relay's thread publishes, at the rate it was built with.
+    if let Some(shared) = node.shared() {
+        shared.update(|engine| engine.set_publish_every_ms(every_ms));
+    }
     let mut publisher = tokio::spawn(publish(Arc::clone(&node)));
     let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
     let refusals = Arc::new(refusals::Refusals::default());

@@ -10,9 +10,14 @@ use cooperation_server::{Access, Credentials, Node, Options};
 
 /// Serves the cooperation AD API (set_commands, set_policies, get_policies, velocity and
 /// steering factors) and the planning modules' sync service over the rosbridge v2 protocol,
-/// and the operator panel at http://ADDR/.
+/// and the operator panel at http://ADDR/; with --stack, the AD API over the planning modules'
+/// own RTC endpoints instead, over DDS and rosbridge at once.
 #[derive(Parser, Debug)]
 #[command(version)]
+#[cfg_attr(
+    feature = "dds",
+    command(group(clap::ArgGroup::new("over_dds").args(["dds_domain", "stack"]).multiple(true)))
+)]
 struct Args {
     /// The address to listen on: HOST:PORT, the host an IP address or a name (localhost:9090),
     /// a name standing for the first address it resolves to.
@@ -56,14 +61,23 @@ struct Args {
     #[cfg(feature = "dds")]
     #[arg(long, value_name = "ID")]
     dds_domain: Option<u16>,
-    /// With `--dds-domain`: a local address DDS may use; repeat for more (all by default).
+    /// With `--dds-domain` or `--stack`: a local address DDS may use; repeat for more (all by
+    /// default).
     #[cfg(feature = "dds")]
-    #[arg(
-        long = "dds-interface",
-        value_name = "ADDRESS",
-        requires = "dds_domain"
-    )]
+    #[arg(long = "dds-interface", value_name = "ADDRESS", requires = "over_dds")]
     dds_interfaces: Vec<std::net::IpAddr>,
+    /// The stack mode (docs/autoware.md): the AD API over the planning modules' own RTC
+    /// endpoints, relayed over DDS as `cooperation-dds --stack` does, on the domain of
+    /// `--dds-domain` (by default ROS_DOMAIN_ID, or 0); the WebSocket and the panel serve the
+    /// same relay.
+    #[cfg(feature = "dds")]
+    #[arg(long)]
+    stack: bool,
+    /// In the stack mode, how long a module has to answer a call, in milliseconds.
+    #[cfg(feature = "dds")]
+    #[arg(long, default_value_t = cooperation_adapters::relay::DEADLINE_MS, requires = "stack",
+          value_parser = clap::value_parser!(u64).range(1..=60_000))]
+    deadline_ms: u64,
 }
 
 /// `--listen`'s address: an IP address and port, or a name and port, resolved.
@@ -98,14 +112,6 @@ async fn main() -> ExitCode {
 async fn run(args: Args) -> Result<(), String> {
     let publish_every = cooperation_adapters::engine::publish_every(args.rate)
         .map_err(|error| format!("--rate {}: {error}", args.rate))?;
-    let node = Node::from_settings(
-        args.settings.as_deref(),
-        cooperation_adapters::engine::Options {
-            scene_quota: args.scene_quota,
-            ..cooperation_adapters::engine::Options::default()
-        },
-    )
-    .map_err(|error| error.to_string())?;
     let credentials = match &args.credentials {
         Some(path) => Some(read_credentials(path, args.per_credential)?),
         None => None,
@@ -123,8 +129,8 @@ async fn run(args: Args) -> Result<(), String> {
         max_clients: args.max_clients,
         credentials,
         access: Access {
-            origins: args.allow_origins,
-            hosts: args.allow_hosts,
+            origins: args.allow_origins.clone(),
+            hosts: args.allow_hosts.clone(),
         },
         ..Options::default()
     };
@@ -145,29 +151,51 @@ async fn run(args: Args) -> Result<(), String> {
             None => "any client may act as the operator or as any planning module",
         }
     );
-    let node = Arc::new(node);
     #[cfg(feature = "dds")]
-    let dds = match args.dds_domain {
-        Some(domain) => Some(dds_door(&node, domain, args.dds_interfaces)?),
-        None => None,
-    };
+    let (node, dds) = dds::doors(&args, publish_every)?;
     #[cfg(not(feature = "dds"))]
-    let dds: Option<DdsDoor> = None;
+    let (node, dds) = (Arc::new(own_engine(&args)?), None::<Door>);
+    // A door's thread that ends, for whatever reason (its sender dropped unsent when it
+    // panics), stops the node.
+    let (dds, door_ended) = match dds {
+        Some(door) => {
+            let (ended, door_ended) = tokio::sync::oneshot::channel::<()>();
+            (Some(door.watched(ended)), Some(door_ended))
+        }
+        None => (None, None),
+    };
+    let door_ended = async move {
+        match door_ended {
+            Some(ended) => {
+                let _ = ended.await;
+            }
+            None => std::future::pending().await,
+        }
+    };
     let shutdown = async {
-        let _ = tokio::signal::ctrl_c().await;
-        tracing::info!("shutting down");
+        tokio::select! {
+            _ = tokio::signal::ctrl_c() => tracing::info!("shutting down"),
+            () = door_ended => tracing::error!("the DDS door stopped: shutting down"),
+        }
     };
     let reloads = reloads(args.credentials.clone(), args.per_credential);
     let served = cooperation_server::serve_reloading(listener, node, options, reloads, shutdown)
         .await
         .map_err(|error| error.to_string());
-    let stopped = dds.map_or(Ok(()), |(stop, door)| {
-        stop.store(true, std::sync::atomic::Ordering::Relaxed);
-        door.join()
-            .map_err(|_| "the DDS door's thread panicked".to_owned())
-            .and_then(|ran| ran)
-    });
+    let stopped = dds.map_or(Ok(()), Door::stop);
     served.and(stopped)
+}
+
+/// A node over an engine of its own, built from the settings.
+fn own_engine(args: &Args) -> Result<Node, String> {
+    Node::from_settings(
+        args.settings.as_deref(),
+        cooperation_adapters::engine::Options {
+            scene_quota: args.scene_quota,
+            ..cooperation_adapters::engine::Options::default()
+        },
+    )
+    .map_err(|error| error.to_string())
 }
 
 /// The credentials file at `path`, read and checked.
@@ -209,33 +237,140 @@ fn reloads(
     })
 }
 
-/// The DDS door: `cooperation-dds`'s node on `node`'s engine and clock, polled by a thread of
-/// its own until the flag is set.
-#[cfg(feature = "dds")]
-fn dds_door(
-    node: &cooperation_server::Node,
-    domain: u16,
-    interfaces: Vec<std::net::IpAddr>,
-) -> Result<DdsDoor, String> {
-    let options = cooperation_dds::Options {
-        domain,
-        interfaces,
-        ..cooperation_dds::Options::default()
-    };
-    let mut door =
-        cooperation_dds::Node::with_shared(Arc::clone(node.shared()), *node.clock(), options)?;
-    tracing::info!("serving the same core on DDS domain {domain}");
-    let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    let thread = std::thread::Builder::new()
-        .name("dds".to_owned())
-        .spawn(move || door.run(&flag))
-        .map_err(|error| format!("the DDS door's thread: {error}"))?;
-    Ok((stop, thread))
+/// What a DDS door's thread runs, until the flag is set.
+type Run = Box<dyn FnOnce(&std::sync::atomic::AtomicBool) -> Result<(), String> + Send>;
+
+/// A running DDS door: its stop flag and its thread, which says when it ends.
+struct Door {
+    stop: Arc<std::sync::atomic::AtomicBool>,
+    run: Run,
+    thread: Option<std::thread::JoinHandle<Result<(), String>>>,
 }
 
-/// A running DDS door: its stop flag and its thread.
-type DdsDoor = (
-    Arc<std::sync::atomic::AtomicBool>,
-    std::thread::JoinHandle<Result<(), String>>,
-);
+impl Door {
+    /// Starts the door's thread, which sends on `ended` when it ends, for whatever reason.
+    fn watched(mut self, ended: tokio::sync::oneshot::Sender<()>) -> Self {
+        let flag = Arc::clone(&self.stop);
+        let run = std::mem::replace(&mut self.run, Box::new(|_| Ok(())));
+        let thread = std::thread::Builder::new()
+            .name("dds".to_owned())
+            .spawn(move || {
+                let ran = run(&flag);
+                let _told = ended.send(());
+                ran
+            });
+        match thread {
+            Ok(thread) => self.thread = Some(thread),
+            Err(error) => tracing::error!(%error, "the DDS door's thread did not start"),
+        }
+        self
+    }
+
+    /// Stops the door and waits for its thread: what it ended with.
+    fn stop(self) -> Result<(), String> {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        let thread = self
+            .thread
+            .ok_or_else(|| "the DDS door's thread did not start".to_owned())?;
+        thread
+            .join()
+            .map_err(|_| "the DDS door's thread panicked".to_owned())
+            .and_then(|ran| ran)
+    }
+}
+
+/// The doors over DDS (the `dds` feature).
+#[cfg(feature = "dds")]
+mod dds {
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    use cooperation_server::Node;
+
+    use super::{own_engine, Args, Door};
+
+    /// How much longer than a module's deadline a call through the stack's door may wait: the
+    /// relay's turn and its publication.
+    const RELAY_SLACK: Duration = Duration::from_secs(2);
+
+    /// The node, and its DDS door: `cooperation-dds`'s stack node in the stack mode (the node
+    /// a door onto its relay), or its node on the node's own engine with `--dds-domain`.
+    pub(super) fn doors(
+        args: &Args,
+        publish_every: Duration,
+    ) -> Result<(Arc<Node>, Option<Door>), String> {
+        if args.stack {
+            let (node, door) = stack(args, publish_every)?;
+            return Ok((node, Some(door)));
+        }
+        let node = Arc::new(own_engine(args)?);
+        let Some(domain) = args.dds_domain else {
+            return Ok((node, None));
+        };
+        let shared = node
+            .shared()
+            .ok_or_else(|| "a node without an engine of its own".to_owned())?;
+        let options = cooperation_dds::Options {
+            domain,
+            interfaces: args.dds_interfaces.clone(),
+            ..cooperation_dds::Options::default()
+        };
+        let mut door =
+            cooperation_dds::Node::with_shared(Arc::clone(shared), *node.clock(), options)?;
+        tracing::info!("serving the same core on DDS domain {domain}");
+        Ok((node, Some(Door::new(move |stop| door.run(stop)))))
+    }
+
+    /// The stack mode: the stack node, and this node a door onto its relay.
+    fn stack(args: &Args, publish_every: Duration) -> Result<(Arc<Node>, Door), String> {
+        let domain = match args.dds_domain {
+            Some(domain) => domain,
+            None => match std::env::var("ROS_DOMAIN_ID") {
+                Ok(text) => text
+                    .parse()
+                    .map_err(|error| format!("ROS_DOMAIN_ID={text}: {error}"))?,
+                Err(_) => 0,
+            },
+        };
+        let options = cooperation_dds::Options {
+            domain,
+            interfaces: args.dds_interfaces.clone(),
+            publish_every,
+            scene_quota: args.scene_quota,
+            ..cooperation_dds::Options::default()
+        };
+        let deadline = Duration::from_millis(args.deadline_ms);
+        let mut stack = cooperation_dds::Stack::new(args.settings.as_deref(), options, deadline)?;
+        let waker = stack.waker();
+        let (calls, incoming) = std::sync::mpsc::channel();
+        let wake = move || {
+            if let Err(error) = waker.wake() {
+                tracing::error!(%error, "the stack node could not be woken for a call");
+            }
+        };
+        let node = Arc::new(Node::relayed(calls, Box::new(wake), deadline + RELAY_SLACK));
+        let shown = Arc::clone(&node);
+        stack.open_door(cooperation_dds::Door {
+            calls: incoming,
+            shown: Box::new(move |publication| shown.show(publication)),
+        });
+        tracing::info!(
+            "the stack mode on DDS domain {domain}: the AD API over the RTC interfaces {}",
+            stack.interfaces().collect::<Vec<_>>().join(", "),
+        );
+        Ok((node, Door::new(move |stop| stack.run(stop))))
+    }
+
+    impl Door {
+        /// A door that runs `run` on its thread until its flag is set.
+        fn new(
+            run: impl FnOnce(&std::sync::atomic::AtomicBool) -> Result<(), String> + Send + 'static,
+        ) -> Self {
+            Self {
+                stop: Arc::new(std::sync::atomic::AtomicBool::new(false)),
+                run: Box::new(run),
+                thread: None,
+            }
+        }
+    }
+}

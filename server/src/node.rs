@@ -1,5 +1,6 @@
 //! The node: the service engine ([`cooperation_adapters::engine`]) behind one lock
-//! ([`cooperation_adapters::Shared`]), the clock it is told the time by, and the streams.
+//! ([`cooperation_adapters::Shared`]), the clock it is told the time by, and the streams; or, in
+//! the stack mode ([`Node::relayed`]), a door onto a relay another thread owns.
 //!
 //! Every service call, module sync and tick is one short critical section on that lock, and
 //! nothing else is locked: the engine decides when a publication is due and hands out its
@@ -81,11 +82,41 @@ pub struct Publication {
     pub frame: Utf8Bytes,
 }
 
+/// Where the node's answers and publications come from.
+enum Core {
+    /// The engine, behind the process's one lock, shared with its other doors.
+    Engine(Arc<Shared>),
+    /// The stack mode: a relay another thread owns (`cooperation-dds`'s stack node), which
+    /// answers the calls sent to it and shows the node its publications ([`Node::show`]).
+    Relayed(Relayed),
+}
+
+/// The node's side of a relay's door.
+struct Relayed {
+    /// Where calls go, each with where its reply comes back.
+    calls: std::sync::mpsc::Sender<(Request, std::sync::mpsc::Sender<Reply>)>,
+    /// Wakes the relay's thread for a call.
+    wake: Box<dyn Fn() + Send + Sync>,
+    /// The longest a call waits for its reply.
+    wait: std::time::Duration,
+}
+
+impl core::fmt::Debug for Core {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::Engine(shared) => f.debug_tuple("Engine").field(shared).finish(),
+            Self::Relayed(relayed) => f
+                .debug_struct("Relayed")
+                .field("wait", &relayed.wait)
+                .finish_non_exhaustive(),
+        }
+    }
+}
+
 /// What the node serves, and the core it serves it from.
 #[derive(Debug)]
 pub struct Node {
-    /// The one lock: the engine, shared with the process's other doors.
-    shared: Arc<Shared>,
+    core: Core,
     clock: Clock,
     /// How many of the engine's publications the streams have had.
     sent: AtomicU64,
@@ -178,21 +209,43 @@ impl Node {
     /// doors (`cooperation-dds`'s DDS node) serve the same engine on the same clock.
     #[must_use]
     pub fn with_shared(shared: Arc<Shared>, clock: Clock) -> Self {
-        let node = Self {
-            shared,
-            clock,
-            sent: AtomicU64::new(0),
-            topics: core::array::from_fn(|_| watch::channel(Publication::default()).0),
-            changed: Notify::new(),
-        };
+        let node = Self::over(Core::Engine(shared), clock);
         node.publish();
         node
     }
 
-    /// The engine, behind the process's one lock.
+    /// The stack mode's node: a door onto a relay another thread owns. Each call is sent on
+    /// `calls` with where its reply goes, `wake` wakes that thread for it, and a call not
+    /// answered within `wait` is answered with a refusal that says so. The relay shows the
+    /// node what to publish ([`show`](Self::show)); until it first does, the streams have
+    /// nothing to send.
     #[must_use]
-    pub const fn shared(&self) -> &Arc<Shared> {
-        &self.shared
+    pub fn relayed(
+        calls: std::sync::mpsc::Sender<(Request, std::sync::mpsc::Sender<Reply>)>,
+        wake: Box<dyn Fn() + Send + Sync>,
+        wait: std::time::Duration,
+    ) -> Self {
+        Self::over(Core::Relayed(Relayed { calls, wake, wait }), Clock::start())
+    }
+
+    fn over(core: Core, clock: Clock) -> Self {
+        Self {
+            core,
+            clock,
+            sent: AtomicU64::new(0),
+            topics: core::array::from_fn(|_| watch::channel(Publication::default()).0),
+            changed: Notify::new(),
+        }
+    }
+
+    /// The engine, behind the process's one lock; `None` in the stack mode, whose engine is
+    /// inside a relay another thread owns.
+    #[must_use]
+    pub const fn shared(&self) -> Option<&Arc<Shared>> {
+        match &self.core {
+            Core::Engine(shared) => Some(shared),
+            Core::Relayed(_) => None,
+        }
     }
 
     /// The node's clock.
@@ -216,13 +269,22 @@ impl Node {
     /// Publishes every topic if the engine says a publication is due now, or another door of
     /// the process polled one these streams have not had: its messages taken under the lock,
     /// serialized outside it.
+    /// In the stack mode the relay's thread publishes ([`show`](Self::show)): nothing is done.
     pub fn publish(&self) {
+        let Core::Engine(shared) = &self.core else {
+            return;
+        };
         let now = self.clock.now();
         let sent = self.sent.load(Ordering::SeqCst);
-        let Some((number, publication)) = self.shared.publication(now, sent) else {
+        let Some((number, publication)) = shared.publication(now, sent) else {
             return;
         };
         self.sent.fetch_max(number, Ordering::SeqCst);
+        self.show(&publication);
+    }
+
+    /// Publishes `publication` on every topic, unless a newer state was shown already.
+    pub fn show(&self, publication: &engine::Publication) {
         let revision = publication.revision;
         let frames = [
             publish_frame(Topic::Velocity, &publication.velocity),
@@ -236,19 +298,31 @@ impl Node {
 
     /// How long until the engine wants the time told, at the latest (its step limit,
     /// `[COOP-ENGINE-STEP.1]`).
+    /// Far off in the stack mode, where the relay's thread tells its engine the time.
     #[must_use]
     pub fn until_step_limit(&self) -> std::time::Duration {
         let now = self.clock.now();
-        let ms = self.shared.read(|engine| engine.until_step_limit_ms(now));
-        std::time::Duration::from_millis(ms)
+        self.read(FAR, |engine| engine.until_step_limit_ms(now))
     }
 
-    /// How long until the engine's next periodic publication.
+    /// How long until the engine's next periodic publication; far off in the stack mode, where
+    /// the relay's thread publishes.
     #[must_use]
     pub fn until_publication(&self) -> std::time::Duration {
         let now = self.clock.now();
-        let ms = self.shared.read(|engine| engine.until_publication_ms(now));
-        std::time::Duration::from_millis(ms)
+        self.read(FAR, |engine| engine.until_publication_ms(now))
+    }
+
+    /// `ms(engine)` milliseconds, or `otherwise` in the stack mode.
+    fn read(
+        &self,
+        otherwise: std::time::Duration,
+        ms: impl FnOnce(&Engine) -> u64,
+    ) -> std::time::Duration {
+        match &self.core {
+            Core::Engine(shared) => std::time::Duration::from_millis(shared.read(ms)),
+            Core::Relayed(_) => otherwise,
+        }
     }
 
     /// Asks the publishing task to publish soon; several asks before it runs make one
@@ -281,20 +355,61 @@ impl Node {
     /// publication shows the change). Takes the lock: call it where blocking is allowed.
     /// A caller that does not wait asks for the publication with
     /// [`publish_soon`](Self::publish_soon).
+    ///
+    /// In the stack mode the call goes to the relay's thread and this waits for its reply (the
+    /// modules' answers included): the streams already show what it changed, so no revision is
+    /// given. A call the relay does not answer within the node's wait, or one the relay can no
+    /// longer take, is answered with a refusal that says so.
     #[must_use]
     pub fn handle(&self, request: Request) -> (Reply, Option<u64>) {
-        let now = self.clock.now();
-        let handled = self.shared.update(|engine| engine.handle(request, now));
-        let shown = handled.change.revision.filter(|_| handled.change.publish);
-        (handled.reply, shown)
+        match &self.core {
+            Core::Engine(shared) => {
+                let now = self.clock.now();
+                let handled = shared.update(|engine| engine.handle(request, now));
+                let shown = handled.change.revision.filter(|_| handled.change.publish);
+                (handled.reply, shown)
+            }
+            Core::Relayed(relayed) => (relayed.call(request), None),
+        }
     }
 
-    /// Tells the engine the time; publishes soon if scenes expired.
+    /// Tells the engine the time; publishes soon if scenes expired. Nothing in the stack mode,
+    /// where the relay's thread does.
     pub fn tick(&self) {
+        let Core::Engine(shared) = &self.core else {
+            return;
+        };
         let now = self.clock.now();
-        let change = self.shared.update(|engine| engine.handle_timeout(now));
+        let change = shared.update(|engine| engine.handle_timeout(now));
         if change.publish {
             self.publish_soon();
         }
+    }
+}
+
+/// How long the periodic tasks wait in the stack mode, where they have nothing to do.
+const FAR: std::time::Duration = std::time::Duration::from_secs(3600);
+
+impl Relayed {
+    /// `request` answered by the relay's thread.
+    fn call(&self, request: Request) -> Reply {
+        let endpoint = request.endpoint();
+        let (to, from) = std::sync::mpsc::channel();
+        if self.calls.send((request, to)).is_err() {
+            return Reply::refusal(endpoint, "the stack mode's relay has stopped".to_owned());
+        }
+        (self.wake)();
+        from.recv_timeout(self.wait).unwrap_or_else(|error| {
+            let why = match error {
+                std::sync::mpsc::RecvTimeoutError::Timeout => format!(
+                    "the stack mode's relay did not answer within {} ms",
+                    self.wait.as_millis()
+                ),
+                std::sync::mpsc::RecvTimeoutError::Disconnected => {
+                    "the stack mode's relay has stopped".to_owned()
+                }
+            };
+            Reply::refusal(endpoint, why)
+        })
     }
 }

@@ -90,5 +90,6 @@ async fn a_hundred_operators_and_500_scenes_at_10_hz() {
     served
         .node
         .shared()
+        .expect("a node over its own engine")
         .read(|host| assert_eq!(host.state().scenes().count(), 500));
 }

@@ -15,6 +15,7 @@ mod guesses;
 mod limits;
 mod load;
 mod protocol;
+mod relayed;
 mod revoke;
 mod scenes;
 mod subscriptions;

@@ -3,7 +3,8 @@ played by Cyclone DDS participants (`cyclonedds` from PyPI): behavior_path_plann
 (lane_change_left, static_obstacle_avoidance_left) and behavior_velocity_planner (intersection,
 virtual_traffic_light), each interface upstream's `rtc_interface` on upstream's endpoints
 (`upstream.py`, written from the facts of upstream's code), a stand-in for default_adapi
-publishing the stack's factors on the remapped topics, and an operator calling the AD API.
+publishing the stack's factors on the remapped topics, an operator calling the AD API, and an
+operator at the node's panel in headless Chromium (`server/panel/test/stack.mjs`).
 
 Each check prints `PASS name` or `FAIL name: why`, the design page's sequence is printed as it
 ran, and the run ends with `stack peer: N passed, M failed`; the exit status is 1 if any check
@@ -11,7 +12,7 @@ failed. Every wait is bounded.
 
     target/cdr-venv/bin/python tools/stack_peer --domain 42 \
         --velocity-input /cooperation/input/velocity_factors \
-        --steering-input /cooperation/input/steering_factors
+        --steering-input /cooperation/input/steering_factors --panel http://127.0.0.1:9090/
 """
 
 import argparse
@@ -35,10 +36,11 @@ def main():
                         help="where default_adapi's velocity factors are remapped to")
     parser.add_argument("--steering-input", required=True,
                         help="where default_adapi's steering factors are remapped to")
+    parser.add_argument("--panel", help="the URL of the node's operator panel")
     args = parser.parse_args()
     checks = Checks()
     world = World(args.domain, args.velocity_input, args.steering_input)
-    stack = Stack(world)
+    stack = Stack(world, args.panel)
     for name, method in Stack.ORDER:
         print(f"---- {name}", flush=True)
         if not checks.run(name, getattr(stack, method)) and method == "matched":

@@ -2,7 +2,10 @@
 list: passed). They share one world: the scenes of one check are still there in the next.
 """
 
+import os
+import subprocess
 import time
+from pathlib import Path
 
 from ros2_peer.dds import new_uuid, uuid_text
 from ros2_peer.messages import PARAMETER_ERROR
@@ -50,9 +53,14 @@ def settled_agreement(world, timeout=SHOWN):
     return agreement(world)
 
 
+# The panel's browser run, in server/panel/test/.
+PANEL_RUN = Path(__file__).resolve().parents[2] / "server" / "panel" / "test" / "stack.mjs"
+
+
 class Stack:
-    def __init__(self, world):
+    def __init__(self, world, panel=None):
         self.world = world
+        self.panel_url = panel
         self.lane = world.interfaces["lane_change_left"]
         self.avoid = world.interfaces["static_obstacle_avoidance_left"]
         self.junction = world.interfaces["intersection"]
@@ -347,6 +355,49 @@ class Stack:
             problems.append(f"set_policies back: {reply and reply.status}")
         return problems + settled_agreement(w)
 
+    def panel(self):
+        """The operator panel, served by the same node, in headless Chromium: it shows a scene
+        of upstream's intersection interface, its operator's confirmed activate reaches the
+        module, which drives with it, and the AD API over DDS shows it; a per-scene autonomous
+        is refused in the panel and changes nothing (`server/panel/test/stack.mjs`)."""
+        if self.panel_url is None:
+            return ["no --panel URL: the node serves no panel"]
+        w, junction = self.world, self.junction
+        scene = new_uuid()
+        junction.scenes[scene] = Scene(scene, False, WAITING, 45.0, 45.0)
+        if not w.wait(lambda: w.shown("intersection", scene) is not None, SHOWN):
+            return ["the scene is not shown"]
+        commands = len([c for c in junction.calls if c[0] == "commands"])
+        with open(Path(os.environ.get("STACK_TEST_OUT", ".")) / "panel.log", "w+") as log:
+            run = subprocess.Popen(["node", str(PANEL_RUN), self.panel_url, scene.hex()],
+                                   cwd=PANEL_RUN.parent.parent, stdout=log,
+                                   stderr=subprocess.STDOUT)
+            # The planners keep their cycles while the browser works.
+            ended = w.wait(lambda: run.poll() is not None, 90.0)
+            if not ended:
+                run.kill()
+                run.wait()
+            log.seek(0)
+            for line in log.read().splitlines():
+                say(f"panel: {line}")
+        problems = []
+        if not ended or run.returncode != 0:
+            problems.append(f"the panel's run failed (exit status {run.returncode})")
+        if not any(c[0] == "commands" for c in junction.calls[commands:]):
+            problems.append("the panel's activate reached no module")
+        if not w.wait(lambda: junction.activated.get(scene) is True, SHOWN):
+            problems.append("the module does not drive activated after the panel's activate")
+        status = junction.rtc.find(scene)
+        say(f"the module holds command {status.command_status.type} (ACTIVATE = 1) and drives "
+            f"with is_activated = {junction.activated.get(scene)}")
+        shown = w.shown("intersection", scene)
+        if shown is None or shown.cooperator.decision != ACTIVATE:
+            problems.append(f"the AD API over DDS shows {shown}, not the panel's activate")
+        problems += settled_agreement(w)
+        del junction.scenes[scene]
+        junction.rtc.remove(scene)
+        return problems
+
     def undefined_state(self):
         """Upstream takes any state from RUNNING, 7 included: the module's arrays are then
         refused whole (logged by the node, checked by tools/stack-test), its scenes stay as last
@@ -412,5 +463,6 @@ class Stack:
         ("a policy toggle keeps the standing operator decisions", "policy_toggle"),
         ("a new scene under required: none, not deactivate", "none_is_not_deactivate"),
         ("virtual_traffic_light reached by its own service", "virtual_traffic_light"),
+        ("the operator panel on the same node, in headless Chromium", "panel"),
         ("an undefined state refuses one module's arrays, no other's", "undefined_state"),
     ]

@@ -93,15 +93,17 @@ pub(super) async fn delivery(
         // that the engine has a publication due for `Node::publish` to send: the first scene's
         // decision, set to whichever of the two it does not have.
         let now = node.clock().now();
-        node.shared().update(|engine| {
-            for pass in [round, round + 1] {
-                let request = Endpoint::Ad(Service::SetCommands)
-                    .read_json(command_args(0, decision(pass)).as_bytes());
-                if engine.handle(request, now).change.publish {
-                    break;
+        node.shared()
+            .expect("a node over its own engine")
+            .update(|engine| {
+                for pass in [round, round + 1] {
+                    let request = Endpoint::Ad(Service::SetCommands)
+                        .read_json(command_args(0, decision(pass)).as_bytes());
+                    if engine.handle(request, now).change.publish {
+                        break;
+                    }
                 }
-            }
-        });
+            });
         let began = Instant::now();
         node.publish();
         let last = tokio::time::timeout(CASE_DEADLINE, both_frames(&mut arrived, count))

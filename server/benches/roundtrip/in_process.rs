@@ -73,12 +73,15 @@ pub(super) fn in_process(node: &Node) -> InProcess {
         })
         .collect();
     let stamp = node.clock().stamp();
-    let (velocity, steering) = node.shared().read(|host| {
-        (
-            wire::velocity_factors(host.state(), stamp),
-            wire::steering_factors(host.state(), stamp),
-        )
-    });
+    let (velocity, steering) = node
+        .shared()
+        .expect("a node over its own engine")
+        .read(|host| {
+            (
+                wire::velocity_factors(host.state(), stamp),
+                wire::steering_factors(host.state(), stamp),
+            )
+        });
     let (mut velocity_out, mut steering_out) = (Vec::new(), Vec::new());
     let mut lists = FactorLists::default();
     // What a connection does for a call: read the request, answer it under the lock, write
@@ -94,11 +97,18 @@ pub(super) fn in_process(node: &Node) -> InProcess {
     let mut json_service = |i: usize| {
         let request = Endpoint::Ad(Service::SetCommands).read_json(&args[i % args.len()]);
         let now = node.clock().now();
-        let handled = node.shared().update(|engine| engine.handle(request, now));
+        let handled = node
+            .shared()
+            .expect("a node over its own engine")
+            .update(|engine| engine.handle(request, now));
         black_box(wire::to_json(&handled.reply));
     };
     // The core alone, behind a lock of its own: a copy of the node's.
-    let core_alone = std::sync::Mutex::new(node.shared().read(|engine| engine.state().clone()));
+    let core_alone = std::sync::Mutex::new(
+        node.shared()
+            .expect("a node over its own engine")
+            .read(|engine| engine.state().clone()),
+    );
     let mut core = |i: usize| {
         let commands = vec![commands[i % commands.len()]];
         let mut state = core_alone
@@ -110,7 +120,10 @@ pub(super) fn in_process(node: &Node) -> InProcess {
     // none is: nothing changes between iterations).
     let mut publish = |_: usize| {
         let stamp = node.clock().stamp();
-        let publication = node.shared().read(|engine| engine.publication(stamp));
+        let publication = node
+            .shared()
+            .expect("a node over its own engine")
+            .read(|engine| engine.publication(stamp));
         let _frames = black_box([
             serde_json::to_string(&Publish {
                 op: "publish",
@@ -131,22 +144,29 @@ pub(super) fn in_process(node: &Node) -> InProcess {
     };
     let mut convert = |_: usize| {
         let stamp = node.clock().stamp();
-        black_box(node.shared().read(|host| {
-            (
-                wire::velocity_factors(host.state(), stamp),
-                wire::steering_factors(host.state(), stamp),
-            )
-        }));
+        black_box(
+            node.shared()
+                .expect("a node over its own engine")
+                .read(|host| {
+                    (
+                        wire::velocity_factors(host.state(), stamp),
+                        wire::steering_factors(host.state(), stamp),
+                    )
+                }),
+        );
     };
     let mut query = |_: usize| {
-        node.shared().read(|host| {
-            host.state().velocity_factors_into(&mut velocity_out);
-            host.state().steering_factors_into(&mut steering_out);
-        });
+        node.shared()
+            .expect("a node over its own engine")
+            .read(|host| {
+                host.state().velocity_factors_into(&mut velocity_out);
+                host.state().steering_factors_into(&mut steering_out);
+            });
         black_box((&velocity_out, &steering_out));
     };
     let mut query_keyed = |_: usize| {
         node.shared()
+            .expect("a node over its own engine")
             .read(|host| host.state().factors_into(&mut lists));
         black_box(&lists);
     };

@@ -383,7 +383,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             return Err(format!("the scenes of {interface} did not register: {reply:?}").into());
         }
     }
-    let live = node.shared().read(|host| host.state().scene_count());
+    let live = node
+        .shared()
+        .expect("a node over its own engine")
+        .read(|host| host.state().scene_count());
     if live != SCENES {
         return Err(format!("{live} live scenes, not {SCENES}").into());
     }
@@ -444,7 +447,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         deliveries.push((count, each, all));
     }
     let fair = fairness(&clients, address)?;
-    let live_after = node.shared().read(|host| host.state().scene_count());
+    let live_after = node
+        .shared()
+        .expect("a node over its own engine")
+        .read(|host| host.state().scene_count());
     let load_after = load_average();
 
     let mut out = String::new();

@@ -1,0 +1,133 @@
+//! The stack mode's node ([`Node::relayed`]): a door onto a core another thread owns (in
+//! `cooperation-server --stack`, `cooperation-dds`'s stack node and its relay; here an engine
+//! on a thread of the test). Every call goes to that thread and its reply comes back; what the
+//! thread shows is what the streams publish; a call it does not answer within the node's wait,
+//! or can no longer take, is refused, saying so.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
+
+use crate::common::*;
+use cooperation_adapters::clock::Clock;
+use cooperation_adapters::engine::{Engine, Reply, Request};
+use cooperation_server::{Node, Options};
+use serde_json::json;
+
+type Calls = mpsc::Receiver<(Request, mpsc::Sender<Reply>)>;
+
+/// A relayed node waiting `wait` for each reply, the receiver of its calls, and how many times
+/// it woke the owner.
+fn relayed(wait: Duration) -> (Arc<Node>, Calls, Arc<AtomicUsize>) {
+    let (calls, incoming) = mpsc::channel();
+    let woken = Arc::new(AtomicUsize::new(0));
+    let counter = Arc::clone(&woken);
+    let wake = move || {
+        counter.fetch_add(1, Ordering::SeqCst);
+    };
+    (
+        Arc::new(Node::relayed(calls, Box::new(wake), wait)),
+        incoming,
+        woken,
+    )
+}
+
+/// The owner: an engine with the default settings answering `calls`, showing `node` each
+/// publication before the reply that made it.
+fn own(node: &Arc<Node>, calls: Calls) {
+    let node = Arc::clone(node);
+    std::thread::spawn(move || {
+        let mut engine = Engine::from_settings(None, Default::default()).expect("the settings");
+        let clock = Clock::start();
+        node.show(&engine.publication(clock.stamp()));
+        while let Ok((request, reply)) = calls.recv() {
+            let handled = engine.handle(request, clock.now());
+            if let Some(publication) = engine.poll_publication(clock.now()) {
+                node.show(&publication);
+            }
+            let _ = reply.send(handled.reply);
+        }
+    });
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn calls_reach_the_owner_and_what_it_shows_is_published() {
+    let (node, calls, woken) = relayed(WAIT);
+    own(&node, calls);
+    let served = serve_node(node, Options::default()).await;
+    let mut module = Client::connect(&served.url).await;
+    let mut operator = Client::connect(&served.url).await;
+    operator.subscribe("/api/planning/velocity_factors").await;
+    let values = module
+        .sync("intersection", vec![status(1, false, 20.0)])
+        .await;
+    assert_eq!(values["success"], json!(true), "{values}");
+    // The owner showed the scene before it answered: it is in the operator's stream.
+    let shown = tokio::time::timeout(WAIT, async {
+        loop {
+            let frame = operator.next_op("publish").await;
+            if operator_decision(&frame, 1).is_some() {
+                return frame;
+            }
+        }
+    })
+    .await
+    .expect("the scene is published");
+    assert_eq!(operator_decision(&shown, 1), Some(4), "{shown}");
+    let response = operator.set_commands(&[(1, 2)]).await;
+    assert_eq!(
+        response["values"]["status"]["success"],
+        json!(true),
+        "{response}"
+    );
+    let response = operator.set_commands(&[(9, 2)]).await;
+    let status = &response["values"]["status"];
+    assert_eq!(status["success"], json!(false), "{response}");
+    assert!(
+        status["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("unknown")),
+        "the owner's refusal comes back as it made it: {response}"
+    );
+    assert!(
+        woken.load(Ordering::SeqCst) >= 3,
+        "each call woke the owner"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_call_the_owner_does_not_answer_in_time_is_refused_saying_so() {
+    let (node, calls, _) = relayed(Duration::from_millis(300));
+    // The owner takes the calls and never answers them.
+    let kept = std::thread::spawn(move || calls.iter().collect::<Vec<_>>());
+    let served = serve_node(node, Options::default()).await;
+    let mut operator = Client::connect(&served.url).await;
+    let response = operator
+        .call("/api/planning/cooperation/get_policies", json!({}))
+        .await;
+    let status = &response["values"]["status"];
+    assert_eq!(status["success"], json!(false), "{response}");
+    assert_eq!(
+        status["message"],
+        json!("the stack mode's relay did not answer within 300 ms"),
+        "{response}"
+    );
+    drop(served);
+    drop(kept);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_call_after_the_owner_stopped_is_refused_saying_so() {
+    let (node, calls, _) = relayed(WAIT);
+    drop(calls);
+    let served = serve_node(node, Options::default()).await;
+    let mut operator = Client::connect(&served.url).await;
+    let response = operator.set_commands(&[(1, 2)]).await;
+    let status = &response["values"]["status"];
+    assert_eq!(status["success"], json!(false), "{response}");
+    assert_eq!(
+        status["message"],
+        json!("the stack mode's relay has stopped"),
+        "{response}"
+    );
+}
