@@ -138,6 +138,9 @@
   // What the node says the token makes this panel: `operator`, `module`, `anyone` (a node
   // without credentials), or null before it has said.
   let role = null;
+  // The operator decisions the node takes (/whoami): all four, or in the stack mode activate
+  // and deactivate only.
+  let accepted = new Set(CHOICES.map((choice) => choice.decision));
   const operates = () => role === 'operator' || role === 'anyone';
 
   // Tries again after `delay` ms (or the next step of the backoff), saying why it is not
@@ -168,6 +171,7 @@
   }
 
   function open(answer) {
+    if (Array.isArray(answer.decisions)) accepted = new Set(answer.decisions);
     const url = `ws://${location.host}/` + (givenToken ? `?token=${givenToken}` : '');
     const client = new ROSLIB.Ros({ url });
     ros = client;
@@ -390,8 +394,10 @@
     for (const button of group.querySelectorAll('button')) {
       const decision = Number(button.dataset.decision);
       setAttr(button, 'aria-pressed', String(decision === scene.cooperator));
-      button.disabled = pending || !scene.cancellable || !operates();
-      const why = scene.cancellable ? '' : 'This scene is not cancellable: the node accepts no command for it now';
+      const taken = accepted.has(decision);
+      button.disabled = pending || !scene.cancellable || !operates() || !taken;
+      const why = !scene.cancellable ? 'This scene is not cancellable: the node accepts no command for it now'
+        : taken ? '' : 'The planning modules behind this node take activate or deactivate only';
       setAttr(button, 'title', why);
       setAttr(button, 'data-confirm', String(decision === confirming));
     }

@@ -248,6 +248,21 @@ impl Node {
         }
     }
 
+    /// The operator decisions `set_commands` may set, as the AD API's constants: all four,
+    /// or in the stack mode those a planning module's RTC interface can take
+    /// ([`cooperation_adapters::relay::EXPRESSIBLE`]); any other is refused.
+    #[must_use]
+    pub fn decisions(&self) -> Vec<u8> {
+        let decisions: &[cooperation::OperatorDecision] = match &self.core {
+            Core::Engine(_) => &cooperation::OperatorDecision::ALL,
+            Core::Relayed(_) => &cooperation_adapters::relay::EXPRESSIBLE,
+        };
+        decisions
+            .iter()
+            .map(|&decision| wire::CooperationDecision::of(decision).decision)
+            .collect()
+    }
+
     /// The node's clock.
     #[must_use]
     pub const fn clock(&self) -> &Clock {

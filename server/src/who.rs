@@ -213,6 +213,9 @@ struct Answer {
     places: usize,
     /// Those open now.
     open: usize,
+    /// The operator decisions `set_commands` may set (the AD API's constants): all four, or
+    /// in the stack mode activate and deactivate only.
+    decisions: Vec<u8>,
 }
 
 /// `/whoami`: what the request's `Authorization: Bearer` token would let a WebSocket in as,
@@ -241,6 +244,7 @@ pub(crate) async fn whoami(
             interfaces: Vec::new(),
             places: who.most,
             open,
+            decisions: app.node.decisions(),
         },
         Grant::Credential(credential) => Answer {
             role: match credential.role {
@@ -251,6 +255,7 @@ pub(crate) async fn whoami(
             interfaces: credential.interfaces.into_iter().collect(),
             places: who.most,
             open,
+            decisions: app.node.decisions(),
         },
     };
     let Ok(body) = serde_json::to_string(&answer) else {

@@ -95,6 +95,22 @@ async fn calls_reach_the_owner_and_what_it_shows_is_published() {
     );
 }
 
+/// The panel learns from `/whoami` which decisions it may offer: in the stack mode, those an
+/// upstream RTC interface can take, activate and deactivate.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn whoami_offers_only_the_decisions_a_module_can_take() {
+    let (node, calls, _) = relayed(WAIT);
+    own(&node, calls);
+    let served = serve_node(node, Options::default()).await;
+    let (status, _, body) = crate::whoami::ask(&served.url, "/whoami", None).await;
+    assert_eq!(status, 200, "{body}");
+    assert_eq!(
+        crate::whoami::json(&body)["decisions"],
+        json!([1, 2]),
+        "{body}"
+    );
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_call_the_owner_does_not_answer_in_time_is_refused_saying_so() {
     let (node, calls, _) = relayed(Duration::from_millis(300));

@@ -24,7 +24,11 @@ fn credentials(places: usize) -> Credentials {
 
 /// The answer to `GET target` with `bearer` in the `Authorization` header: the status, the
 /// `Retry-After` header and the body.
-async fn ask(url: &str, target: &str, bearer: Option<&str>) -> (u16, Option<String>, String) {
+pub(crate) async fn ask(
+    url: &str,
+    target: &str,
+    bearer: Option<&str>,
+) -> (u16, Option<String>, String) {
     let address = url.trim_start_matches("ws://").trim_end_matches('/');
     let mut stream = tokio::time::timeout(WAIT, tokio::net::TcpStream::connect(address))
         .await
@@ -59,7 +63,7 @@ async fn ask(url: &str, target: &str, bearer: Option<&str>) -> (u16, Option<Stri
     (status, retry, body.to_owned())
 }
 
-fn json(body: &str) -> Value {
+pub(crate) fn json(body: &str) -> Value {
     serde_json::from_str(body).unwrap_or_else(|error| panic!("{body:?}: {error}"))
 }
 
@@ -78,6 +82,12 @@ async fn whoami_names_the_role_and_the_places_taken_and_takes_none() {
     assert_eq!(answer["credential"], "panel", "{body}");
     assert_eq!(answer["places"], 2, "{body}");
     assert_eq!(answer["open"], 0, "{body}");
+    // Every operator decision: this node has its own core.
+    assert_eq!(
+        answer["decisions"],
+        serde_json::json!([1, 2, 3, 4]),
+        "{body}"
+    );
     // A module's places fill: its answer says so, and names its interfaces.
     let _first = Client::connect_as(url, Some(MODULE)).await.expect("in");
     let (_, _, body) = ask(url, "/whoami", Some(MODULE)).await;

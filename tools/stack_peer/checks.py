@@ -358,8 +358,8 @@ class Stack:
     def panel(self):
         """The operator panel, served by the same node, in headless Chromium: it shows a scene
         of upstream's intersection interface, its operator's confirmed activate reaches the
-        module, which drives with it, and the AD API over DDS shows it; a per-scene autonomous
-        is refused in the panel and changes nothing (`server/panel/test/stack.mjs`)."""
+        module, which drives with it, and the AD API over DDS shows it; the panel does not offer
+        the decisions no upstream interface can take (`server/panel/test/stack.mjs`)."""
         if self.panel_url is None:
             return ["no --panel URL: the node serves no panel"]
         w, junction = self.world, self.junction

@@ -48,6 +48,11 @@ use pending::{Outcome, Part, Pending};
 /// milliseconds.
 pub const DEADLINE_MS: u64 = 1_000;
 
+/// The operator decisions an upstream RTC interface can take for one scene, and so the only
+/// ones the relay forwards (`[COOP-RELAY-INEXPRESSIBLE.1]`).
+pub const EXPRESSIBLE: [OperatorDecision; 2] =
+    [OperatorDecision::Deactivate, OperatorDecision::Activate];
+
 /// One call to a module, numbered by the relay.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
 pub struct CallId(pub u64);
@@ -323,10 +328,7 @@ impl Relay {
         }
         // [COOP-RELAY-INEXPRESSIBLE.1]
         for (index, command) in commands.iter().enumerate() {
-            if matches!(
-                command.decision,
-                OperatorDecision::Autonomous | OperatorDecision::Undecided
-            ) {
+            if !EXPRESSIBLE.contains(&command.decision) {
                 return Err(refusal(&RelayRefusal::Inexpressible {
                     index,
                     id: command.id,

@@ -1,9 +1,9 @@
 // The operator panel on the stack mode's node, in headless Chromium: run by tools/stack-test's
 // peer while its planners, which speak upstream's RTC endpoints, report a scene their module
 // says is unsafe. The panel shows the scene with no operator decision (none, not deactivate),
-// the operator's confirmed activate is answered once the module took it, and a per-scene
-// autonomous, which no upstream interface can take, is refused and said so. Whether the module
-// itself took the activate is the peer's to check.
+// the operator's confirmed activate is answered once the module took it, and the decisions no
+// upstream interface can take for one scene (autonomous, none) are not offered. Whether the
+// module itself took the activate is the peer's to check.
 //
 //   CHROMIUM=/usr/bin/chromium node test/stack.mjs http://127.0.0.1:9090/ <scene's 32 hex digits>
 //
@@ -49,12 +49,15 @@ async function run(state) {
   }, [row(scene), ACTIVATE]);
   log(`activate confirmed, answered "${(await page.locator('#message').textContent()).trim()}"`);
 
-  await page.click(button(scene, AUTONOMOUS), { timeout: STEP_MS });
-  await pageUntil(page, 'a per-scene autonomous is refused, and said so',
-    () => document.getElementById('message').dataset.kind === 'error');
-  const refused = (await page.locator('#message').textContent()).trim();
-  await pageUntil(page, 'the refused autonomous leaves the activate standing', ...cellIs(scene, 'cooperator', ACTIVATE));
-  log(`autonomous refused: "${refused}"; the activate stands`);
+  await pageUntil(page, 'autonomous and none are not offered, saying why; deactivate is',
+    ([off, on]) => off.every((selector) => {
+      const b = document.querySelector(selector);
+      return b.disabled && b.title.includes('activate or deactivate only');
+    }) && !document.querySelector(on).disabled,
+    [[button(scene, AUTONOMOUS), button(scene, UNDECIDED)], button(scene, DEACTIVATE)]);
+  const why = await page.locator(button(scene, AUTONOMOUS)).getAttribute('title');
+  await pageUntil(page, 'the activate stands', ...cellIs(scene, 'cooperator', ACTIVATE));
+  log(`autonomous and none are not offered: "${why}"; deactivate is`);
 }
 
 // As harness.mjs's `main`, for a run with no node or module of its own.
