@@ -327,12 +327,13 @@ pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]
     // The adapter's response; an interface that is not there refuses every command.
     let response =
         response.unwrap_or_else(|| CooperateCommandsResponse::answering(&request, false));
-    // What the adapter answered, entry for entry.
+    // What the adapter answered, entry for entry (in the adapter's own allocation: the two
+    // entries have one layout, so the collection reuses it).
     Answered {
         outcome: outcome(result),
         responses: response
             .responses
-            .iter()
+            .into_iter()
             .map(|answer| CommandOut {
                 uuid: Uuid {
                     bytes: answer.uuid.uuid,

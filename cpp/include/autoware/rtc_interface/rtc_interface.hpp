@@ -325,6 +325,7 @@ private:
   {
     tell_time();
     std::vector<cooperation::rtc::CommandIn> in;
+    in.reserve(commands.size());
     for (const auto & command : commands) {
       in.push_back(
         cooperation::rtc::CommandIn{detail::id_of(command.uuid), command.module.type, command.command.type});
