@@ -124,7 +124,7 @@ impl Host {
 /// use cooperation_adapters::rtc::StatusReport;
 /// use cooperation_adapters::Shared;
 ///
-/// let config = cooperation_adapters::settings::load(None)?;
+/// let config = cooperation_adapters::settings::load(None)?.config;
 /// let shared = Arc::new(Shared::new(Engine::new(config, Options::default())?));
 /// let id = SceneId::from_u128(7);
 ///

@@ -15,7 +15,9 @@ use cooperation_adapters::Time;
 
 /// An engine with the built-in settings whose streams have published what it shows.
 fn host() -> Engine {
-    let config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+    let config = cooperation_adapters::settings::load(None)
+        .expect("the built-in settings")
+        .config;
     let mut engine = Engine::new(config, Options::default()).expect("valid");
     assert!(engine.poll_publication(Now::default()).is_some());
     engine

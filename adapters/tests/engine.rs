@@ -12,7 +12,9 @@ use cooperation_adapters::Time;
 const TTL_MS: u64 = 100;
 
 fn engine() -> Engine {
-    let mut config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+    let mut config = cooperation_adapters::settings::load(None)
+        .expect("the built-in settings")
+        .config;
     config.limits.ttl_ms = TTL_MS;
     let mut engine = Engine::new(config, Options::default()).expect("a configuration");
     engine.handle_timeout(at(0));
@@ -90,7 +92,9 @@ fn coop_engine_time_1() {
 fn coop_engine_step_1() {
     const LIMIT_MS: u64 = 20;
     let engine_limited = |max_step_ms| {
-        let mut config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+        let mut config = cooperation_adapters::settings::load(None)
+            .expect("the built-in settings")
+            .config;
         config.limits.ttl_ms = TTL_MS;
         let options = Options {
             max_step_ms,
@@ -240,7 +244,9 @@ fn coop_engine_answer_1() {
 /// naming the largest that fits.
 #[test]
 fn every_interface_at_its_quota_fits_the_table() {
-    let config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+    let config = cooperation_adapters::settings::load(None)
+        .expect("the built-in settings")
+        .config;
     let max_scenes = config.limits.max_scenes;
     let interfaces = rtc::Binding::standard().len();
     // The default: the table shared evenly by the standard interfaces.
@@ -346,7 +352,9 @@ fn every_host_builds_its_engine_from_settings_one_way() {
     use cooperation_adapters::engine::EngineError;
     let built = Engine::from_settings(None, Options::default()).expect("the built-in settings");
     let expected = Engine::new(
-        cooperation_adapters::settings::load(None).expect("the built-in settings"),
+        cooperation_adapters::settings::load(None)
+            .expect("the built-in settings")
+            .config,
         Options::default(),
     )
     .expect("a configuration");

@@ -230,7 +230,9 @@ impl Row {
 }
 
 fn main() {
-    let config = cooperation_adapters::settings::load(None).expect("settings");
+    let config = cooperation_adapters::settings::load(None)
+        .expect("settings")
+        .config;
     let options = Options {
         domain: DOMAIN,
         publish_every: Duration::from_secs(3600),

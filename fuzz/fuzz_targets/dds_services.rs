@@ -22,7 +22,7 @@ fn start() -> Engine {
     static START: OnceLock<Engine> = OnceLock::new();
     START
         .get_or_init(|| {
-            let config = cooperation_adapters::settings::load(None).expect("the built-in settings");
+            let config = cooperation_adapters::settings::load(None).expect("the built-in settings").config;
             Engine::new(config, Options::default()).expect("valid")
         })
         .clone()

@@ -112,8 +112,9 @@ async fn main() -> ExitCode {
 async fn run(args: Args) -> Result<(), String> {
     let publish_every = cooperation_adapters::engine::publish_every(args.rate)
         .map_err(|error| format!("--rate {}: {error}", args.rate))?;
+    let interfaces = interfaces(args.settings.as_deref())?;
     let credentials = match &args.credentials {
-        Some(path) => Some(read_credentials(path, args.per_credential)?),
+        Some(path) => Some(read_credentials(path, &interfaces, args.per_credential)?),
         None => None,
     };
     if credentials.is_none() && !args.listen.ip().is_loopback() && !args.anonymous {
@@ -178,7 +179,7 @@ async fn run(args: Args) -> Result<(), String> {
             () = door_ended => tracing::error!("the DDS door stopped: shutting down"),
         }
     };
-    let reloads = reloads(args.credentials.clone(), args.per_credential);
+    let reloads = reloads(args.credentials.clone(), interfaces, args.per_credential);
     let served = cooperation_server::serve_reloading(listener, node, options, reloads, shutdown)
         .await
         .map_err(|error| error.to_string());
@@ -198,11 +199,25 @@ fn own_engine(args: &Args) -> Result<Node, String> {
     .map_err(|error| error.to_string())
 }
 
-/// The credentials file at `path`, read and checked.
-fn read_credentials(path: &std::path::Path, places: usize) -> Result<Credentials, String> {
+/// The names of the RTC interfaces the node binds: the standard ones and those its settings
+/// add, which a module's credential may name.
+fn interfaces(settings: Option<&std::path::Path>) -> Result<Vec<String>, String> {
+    let settings = cooperation_adapters::settings::load(settings)?;
+    Ok(cooperation_adapters::rtc::Binding::standard()
+        .into_iter()
+        .chain(settings.interfaces)
+        .map(|binding| binding.name)
+        .collect())
+}
+
+/// The credentials file at `path`, read and checked against the node's `interfaces`.
+fn read_credentials(
+    path: &std::path::Path,
+    interfaces: &[String],
+    places: usize,
+) -> Result<Credentials, String> {
     let text = cooperation_server::auth::read_file(path)?;
-    let rtc = cooperation_adapters::rtc::Rtc::standard();
-    let interfaces: Vec<&str> = rtc.bindings().iter().map(|b| b.name.as_str()).collect();
+    let interfaces: Vec<&str> = interfaces.iter().map(String::as_str).collect();
     Credentials::parse(&text, &interfaces, places)
         .map_err(|error| format!("{}: {error}", path.display()))
 }
@@ -212,6 +227,7 @@ fn read_credentials(path: &std::path::Path, places: usize) -> Result<Credentials
 /// file.
 fn reloads(
     path: Option<PathBuf>,
+    interfaces: Vec<String>,
     places: usize,
 ) -> impl futures_util::Stream<Item = Credentials> + Send + 'static {
     use tokio::signal::unix::{signal, SignalKind};
@@ -222,16 +238,20 @@ fn reloads(
             None
         }
     });
-    futures_util::stream::unfold(hangups, move |hangups| async move {
-        let (mut hangups, path) = hangups?;
-        loop {
-            hangups.recv().await?;
-            match read_credentials(&path, places) {
-                Ok(credentials) => return Some((credentials, Some((hangups, path)))),
-                Err(error) => tracing::error!(
+    let interfaces = std::sync::Arc::new(interfaces);
+    futures_util::stream::unfold(hangups, move |hangups| {
+        let interfaces = std::sync::Arc::clone(&interfaces);
+        async move {
+            let (mut hangups, path) = hangups?;
+            loop {
+                hangups.recv().await?;
+                match read_credentials(&path, &interfaces, places) {
+                    Ok(credentials) => return Some((credentials, Some((hangups, path)))),
+                    Err(error) => tracing::error!(
                     "SIGHUP: the credentials file does not read, the credentials in force stay: \
                      {error}"
                 ),
+                }
             }
         }
     })

@@ -115,6 +115,51 @@ fn a_node_that_cannot_start_says_why() {
     std::fs::remove_dir_all(&dir).expect("removed");
 }
 
+/// A module's credential may name an interface the settings add (`docs/settings.md`,
+/// *Interfaces*), and only then.
+#[test]
+fn a_credential_may_name_an_interface_the_settings_add() {
+    let dir = std::env::temp_dir().join(format!("cooperation-server-added-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let settings = dir.join("settings.yaml");
+    std::fs::write(
+        &settings,
+        "/**:\n  ros__parameters:\n    cooperation:\n      policies:\n        \
+         dynamic-avoidance: optional\n      interfaces:\n        dynamic_obstacle_avoidance: \
+         {behavior: dynamic-avoidance, kind: steering}\n",
+    )
+    .expect("written");
+    let credentials = dir.join("credentials");
+    std::fs::write(
+        &credentials,
+        "module planner module-token-0123456789abcdefgh dynamic_obstacle_avoidance\n",
+    )
+    .expect("written");
+    set_mode(&credentials, 0o600);
+    let credentials = credentials.to_str().expect("UTF-8");
+    // The standard interfaces alone: the credential names none of them.
+    refused(
+        &["--listen", "127.0.0.1:0", "--credentials", credentials],
+        "dynamic_obstacle_avoidance",
+    );
+    // With the settings, the credentials read: the node gets as far as its address, taken.
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
+    let address = taken.local_addr().expect("its address").to_string();
+    let settings = settings.to_str().expect("UTF-8");
+    refused(
+        &[
+            "--listen",
+            &address,
+            "--settings",
+            settings,
+            "--credentials",
+            credentials,
+        ],
+        "cannot listen on",
+    );
+    std::fs::remove_dir_all(&dir).expect("removed");
+}
+
 /// The node needs no file from the tree it was built in: its default settings are built in,
 /// and its help names no path of the build.
 #[test]

@@ -65,6 +65,7 @@ class Stack:
         self.avoid = world.interfaces["static_obstacle_avoidance_left"]
         self.junction = world.interfaces["intersection"]
         self.light = world.interfaces["virtual_traffic_light"]
+        self.added = world.interfaces["dynamic_obstacle_avoidance"]
         self.first = new_uuid()
 
     def matched(self):
@@ -355,6 +356,31 @@ class Stack:
             problems.append(f"set_policies back: {reply and reply.status}")
         return problems + settled_agreement(w)
 
+    def added_interface(self):
+        """An interface no standard binding has, added by the node's settings: its scene shows
+        under its behaviour, and a command reaches its own service."""
+        w, added = self.world, self.added
+        scene = new_uuid()
+        added.scenes[scene] = Scene(scene, False, WAITING, 35.0, 70.0)
+        if not w.wait(lambda: w.shown("dynamic_obstacle_avoidance", scene) is not None, SHOWN):
+            return ["the scene is not in /api/planning/steering_factors"]
+        factor = next(f for f in w.operator.steering.newest().factors
+                      if f.cooperation and bytes(f.cooperation[0].uuid.uuid) == scene)
+        say(f"shown as a steering factor of behaviour {factor.behavior!r}")
+        problems = [] if factor.behavior == "dynamic-avoidance" else [
+            f"behaviour {factor.behavior!r}, not the settings' dynamic-avoidance"]
+        reply = w.command(scene, ACTIVATE)
+        if reply is None or not reply.status.success:
+            problems.append(f"set_commands: {reply and reply.status}")
+        if not any(kind == "commands" for kind, _ in added.calls):
+            problems.append("dynamic_obstacle_avoidance's service was not called")
+        if not w.wait(lambda: added.activated.get(scene) is True, SHOWN):
+            problems.append("the module does not drive activated")
+        problems += settled_agreement(w)
+        del added.scenes[scene]
+        added.rtc.remove(scene)
+        return problems
+
     def panel(self):
         """The operator panel, served by the same node, in headless Chromium: it shows a scene
         of upstream's intersection interface, its operator's confirmed activate reaches the
@@ -463,6 +489,7 @@ class Stack:
         ("a policy toggle keeps the standing operator decisions", "policy_toggle"),
         ("a new scene under required: none, not deactivate", "none_is_not_deactivate"),
         ("virtual_traffic_light reached by its own service", "virtual_traffic_light"),
+        ("an interface the node's settings add reaches its module", "added_interface"),
         ("the operator panel on the same node, in headless Chromium", "panel"),
         ("an undefined state refuses one module's arrays, no other's", "undefined_state"),
     ]

@@ -25,8 +25,8 @@ from cdr_golden import UUID
 # tier4_rtc_msgs/Command, State
 DEACTIVATE, ACTIVATE = 0, 1
 WAITING, RUNNING, ABORTING, SUCCEEDED, FAILED = 0, 1, 2, 3, 4
-# tier4_rtc_msgs/Module
-LANE_CHANGE_LEFT, AVOIDANCE_LEFT, TRAFFIC_LIGHT, INTERSECTION = 1, 3, 7, 8
+# tier4_rtc_msgs/Module; NONE is what an interface name upstream does not know reports
+NONE, LANE_CHANGE_LEFT, AVOIDANCE_LEFT, TRAFFIC_LIGHT, INTERSECTION = 0, 1, 3, 7, 8
 
 # How long a status lives without an accepted update, in seconds (strictly more expires).
 EXPIRY = 10.0

@@ -42,14 +42,16 @@ from ros2_peer.messages import (
 )
 
 from .planner import Planner, stamp_now
-from .upstream import AVOIDANCE_LEFT, INTERSECTION, LANE_CHANGE_LEFT, TRAFFIC_LIGHT
+from .upstream import AVOIDANCE_LEFT, INTERSECTION, LANE_CHANGE_LEFT, NONE, TRAFFIC_LIGHT
 
 # The planners of the test, with upstream's shipped default: enable_rtc false (auto mode on),
-# as the node's default policy (optional) says.
+# as the node's default policy (optional) says. `dynamic_obstacle_avoidance` is an interface
+# no standard binding has: the node binds it because its settings add it (tools/stack-test).
 PLANNERS = {
     "behavior_path_planner": (
         [("lane_change_left", LANE_CHANGE_LEFT, False),
-         ("static_obstacle_avoidance_left", AVOIDANCE_LEFT, False)],
+         ("static_obstacle_avoidance_left", AVOIDANCE_LEFT, False),
+         ("dynamic_obstacle_avoidance", NONE, False)],
         True,
     ),
     "behavior_velocity_planner": (
@@ -65,6 +67,7 @@ BEHAVIOR = {
     "static_obstacle_avoidance_left": ("avoidance", True),
     "intersection": ("intersection", False),
     "virtual_traffic_light": ("virtual-traffic-light", False),
+    "dynamic_obstacle_avoidance": ("dynamic-avoidance", True),
 }
 
 

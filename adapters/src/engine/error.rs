@@ -25,6 +25,8 @@ pub enum EngineError {
     /// A publication rate (publications a second, as written) that is not above 0 and at most
     /// [`MAX_PUBLICATION_RATE_HZ`](super::MAX_PUBLICATION_RATE_HZ).
     PublicationRate(String),
+    /// The RTC interfaces refuse their bindings: two with one name, or one with no sequence.
+    Interfaces(crate::rtc::RtcError),
 }
 
 impl fmt::Display for EngineError {
@@ -50,6 +52,7 @@ impl fmt::Display for EngineError {
                 "a rate of {rate} publications a second: give a rate above 0 and at most {}",
                 super::MAX_PUBLICATION_RATE_HZ
             ),
+            Self::Interfaces(error) => write!(f, "the RTC interfaces: {error}"),
         }
     }
 }

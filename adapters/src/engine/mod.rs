@@ -46,7 +46,7 @@ pub use request::{Endpoint, Reply, Request};
 
 use cooperation::{Config, State, Transition};
 
-use crate::rtc::{Rtc, SCENE_QUOTA};
+use crate::rtc::{Binding, Rtc, SCENE_QUOTA};
 use crate::wire::{self, SteeringFactorArray, VelocityFactorArray};
 use crate::{sync, Host, Time};
 use scenes::SceneArray;
@@ -66,7 +66,9 @@ pub const MAX_STEP_MS: u64 = 1000;
 pub struct Options {
     /// The live scenes each RTC interface may hold (`[COOP-DEV-QUOTA.1]`); 0 for no quota. The
     /// quotas of all interfaces together must fit the core's table
-    /// ([`EngineError::QuotaOverTable`]).
+    /// ([`EngineError::QuotaOverTable`]). The default, [`SCENE_QUOTA`], is lowered to the
+    /// table shared by the interfaces (`max_scenes` ÷ interfaces) when that is less: settings
+    /// that add interfaces, or shrink the table, then need no quota of their own.
     pub scene_quota: usize,
     /// The interval of periodic publications, in milliseconds (at least 1).
     pub publish_every_ms: u64,
@@ -183,7 +185,7 @@ impl Engine {
 
     /// An engine over a new core configured by the settings file at `settings` (the built-in
     /// settings, [`settings::BUILT_IN`](crate::settings::BUILT_IN), for `None`), the standard
-    /// RTC interfaces and `options`: how every host builds its engine.
+    /// RTC interfaces and those the file adds, and `options`: how every host builds its engine.
     ///
     /// # Errors
     /// A settings file that cannot be read or parsed ([`EngineError::Settings`], naming the
@@ -192,8 +194,24 @@ impl Engine {
         settings: Option<&std::path::Path>,
         options: Options,
     ) -> Result<Self, EngineError> {
-        let config = crate::settings::load(settings).map_err(EngineError::Settings)?;
-        Self::new(config, options)
+        let settings = crate::settings::load(settings).map_err(EngineError::Settings)?;
+        Self::with_interfaces(settings.config, settings.interfaces, options)
+    }
+
+    /// An engine over a new core with `config`, the standard RTC interfaces and `interfaces`
+    /// besides, and `options`.
+    ///
+    /// # Errors
+    /// As [`Engine::new`], and [`EngineError::Interfaces`] for an interface whose name another
+    /// has, or that binds no sequence.
+    pub fn with_interfaces(
+        config: Config,
+        interfaces: Vec<Binding>,
+        options: Options,
+    ) -> Result<Self, EngineError> {
+        let rtc = Rtc::new(Binding::standard().into_iter().chain(interfaces))
+            .map_err(EngineError::Interfaces)?;
+        Self::over(State::new(config)?, rtc, options)
     }
 
     /// An engine over `state` (a core a planner built and fed itself), the standard RTC
@@ -202,10 +220,19 @@ impl Engine {
     /// # Errors
     /// [`EngineError::QuotaOverTable`], as for [`Engine::new`].
     pub fn from_state(state: State, options: Options) -> Result<Self, EngineError> {
-        let mut rtc = Rtc::standard();
+        Self::over(state, Rtc::standard(), options)
+    }
+
+    /// An engine over `state`, the interfaces of `rtc` and `options`.
+    fn over(state: State, mut rtc: Rtc, mut options: Options) -> Result<Self, EngineError> {
+        let interfaces = rtc.bindings().len();
+        let max_scenes = state.limits().max_scenes;
+        if options.scene_quota == SCENE_QUOTA {
+            // The default, the table shared by the standard interfaces, is the table shared
+            // by these when that is less: settings that add interfaces or shrink the table.
+            options.scene_quota = SCENE_QUOTA.min((max_scenes / interfaces.max(1)).max(1));
+        }
         if options.scene_quota > 0 {
-            let interfaces = rtc.bindings().len();
-            let max_scenes = state.limits().max_scenes;
             if options.scene_quota.saturating_mul(interfaces) > max_scenes {
                 return Err(EngineError::QuotaOverTable {
                     quota: options.scene_quota,

@@ -127,6 +127,37 @@ pub enum SettingsErrorKind {
     },
     /// A limit the core refuses: [`State::new`](cooperation::State::new) would fail with this.
     Refused(ConfigError),
+    /// A key under `interfaces` that cannot be an interface's name.
+    InvalidInterface {
+        /// The name given.
+        given: String,
+    },
+    /// A key under `interfaces` that names a standard interface, which is bound already.
+    StandardInterface {
+        /// The name given.
+        given: String,
+    },
+    /// An interface's `kind` that is none of `velocity`, `steering`, `steering-left`,
+    /// `steering-right`.
+    UnknownKind {
+        /// The string given.
+        given: String,
+    },
+    /// An interface's `module_type` that is no `tier4_rtc_msgs/Module` constant.
+    UnknownModuleType {
+        /// The number as written.
+        given: String,
+    },
+    /// An interface without a key it needs (`behavior`, `kind`).
+    MissingField {
+        /// The key.
+        field: &'static str,
+    },
+    /// An interface whose module has no policy in the file: its scenes could not register.
+    Unbound {
+        /// The module, as the AD API names it (`behavior` or `behavior/sequence`).
+        module: String,
+    },
 }
 
 impl fmt::Display for SettingsErrorKind {
@@ -212,6 +243,36 @@ impl fmt::Display for SettingsErrorKind {
                 write!(f, "{given} is more than the {max} allowed here")
             }
             Self::Refused(error) => write!(f, "{error}"),
+            Self::InvalidInterface { given } => write!(
+                f,
+                "{given:?} is not an interface name: an ASCII letter, then ASCII letters, digits \
+                 and `_`, at most {} bytes",
+                super::interfaces::MAX_NAME
+            ),
+            Self::StandardInterface { given } => write!(
+                f,
+                "{given:?} is a standard interface, bound already; `interfaces` adds others"
+            ),
+            Self::UnknownKind { given } => {
+                write!(f, "unknown kind {given:?}; expected one of ")?;
+                for (index, kind) in super::interfaces::KINDS.iter().enumerate() {
+                    if index > 0 {
+                        f.write_str(", ")?;
+                    }
+                    write!(f, "`{kind}`")?;
+                }
+                Ok(())
+            }
+            Self::UnknownModuleType { given } => write!(
+                f,
+                "{given} is no `tier4_rtc_msgs/Module` constant (0, NONE, to 19, ROUNDABOUT)"
+            ),
+            Self::MissingField { field } => write!(f, "the interface has no `{field}`"),
+            Self::Unbound { module } => write!(
+                f,
+                "module {module:?} has no policy in `cooperation.policies`: the interface's \
+                 scenes could not register"
+            ),
         }
     }
 }
@@ -256,6 +317,12 @@ pub enum Expected {
     PolicyOrSequences,
     /// A whole number.
     Integer,
+    /// A behaviour string.
+    Behavior,
+    /// A sequence string.
+    Sequence,
+    /// A kind: `velocity`, `steering`, `steering-left` or `steering-right`.
+    Kind,
 }
 
 impl fmt::Display for Expected {
@@ -267,6 +334,9 @@ impl fmt::Display for Expected {
                 "a policy (`optional` or `required`), or a map from sequences to policies"
             }
             Self::Integer => "a whole number",
+            Self::Behavior => "a behaviour",
+            Self::Sequence => "a sequence",
+            Self::Kind => "a kind (`velocity`, `steering`, `steering-left` or `steering-right`)",
         })
     }
 }

@@ -3,14 +3,19 @@
 //! It follows the layout as it reads, so it descends only into maps the layout has: a key the
 //! layout does not have is refused before its value is read, so recursion is never deeper than
 //! the layout's six maps, whatever the text.
+//!
+//! Errors are refused where they are written, but one is only known at the end: an interface
+//! without a key it needs, or whose module has no policy, is refused at its key.
 
 use std::collections::btree_map::Entry;
 use std::collections::BTreeMap;
 
-use saphyr_parser::{Event, Parser, ScalarStyle, ScanError, StrInput};
+use saphyr_parser::{Event, Parser, ScanError, StrInput};
 
-use super::scalar::{kind, unsigned_integer};
-use super::{Expected, Found, SettingsError, SettingsErrorKind, Unsupported};
+use super::interfaces::{self, Draft, Field};
+use super::limit::Limit;
+use super::scalar::kind;
+use super::{Expected, Found, Settings, SettingsError, SettingsErrorKind, Unsupported};
 use cooperation::{Behavior, Config, Limits, Module, Policy, Sequence, State};
 
 /// The only key of a node's map.
@@ -18,7 +23,7 @@ const ROS_PARAMETERS: &str = "ros__parameters";
 
 /// The keys under `ros__parameters`, `cooperation` and `limits`.
 const COOPERATION: &[&str] = &["cooperation"];
-const SECTIONS: &[&str] = &["policies", "limits"];
+const SECTIONS: &[&str] = &["policies", "limits", "interfaces"];
 const LIMITS: &[&str] = &["ttl_ms", "max_scenes", "retired_capacity", "max_batch"];
 
 /// A place in the text: line and column, both from 1.
@@ -65,64 +70,6 @@ impl Mark {
     }
 }
 
-/// A limit, by its key.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-enum Limit {
-    TtlMs,
-    MaxScenes,
-    RetiredCapacity,
-    MaxBatch,
-}
-
-impl Limit {
-    const ALL: [Self; 4] = [
-        Self::TtlMs,
-        Self::MaxScenes,
-        Self::RetiredCapacity,
-        Self::MaxBatch,
-    ];
-
-    const fn key(self) -> &'static str {
-        match self {
-            Self::TtlMs => "ttl_ms",
-            Self::MaxScenes => "max_scenes",
-            Self::RetiredCapacity => "retired_capacity",
-            Self::MaxBatch => "max_batch",
-        }
-    }
-
-    /// This limit of `limits`, as a whole number.
-    fn get(self, limits: &Limits) -> u64 {
-        let value = match self {
-            Self::TtlMs => return limits.ttl_ms,
-            Self::MaxScenes => limits.max_scenes,
-            Self::RetiredCapacity => limits.retired_capacity,
-            Self::MaxBatch => limits.max_batch,
-        };
-        u64::try_from(value).unwrap_or(u64::MAX)
-    }
-
-    /// `limits` with this limit set to `value`, or `None` if its type cannot hold it.
-    fn set(self, mut limits: Limits, value: u64) -> Option<Limits> {
-        let count = usize::try_from(value).ok();
-        match self {
-            Self::TtlMs => limits.ttl_ms = value,
-            Self::MaxScenes => limits.max_scenes = count?,
-            Self::RetiredCapacity => limits.retired_capacity = count?,
-            Self::MaxBatch => limits.max_batch = count?,
-        }
-        Some(limits)
-    }
-
-    /// The largest value this limit's type holds.
-    fn type_max(self) -> u64 {
-        match self {
-            Self::TtlMs => u64::MAX,
-            _ => u64::try_from(usize::MAX).unwrap_or(u64::MAX),
-        }
-    }
-}
-
 /// Where in the layout a key leads.
 #[derive(Clone, PartialEq, Eq, Debug)]
 enum Place {
@@ -140,16 +87,28 @@ enum Place {
     Limits,
     /// One limit.
     Limit(Limit),
+    /// `cooperation.interfaces`: interface names.
+    Interfaces,
+    /// An interface: its keys.
+    Interface(String),
+    /// One key of an interface.
+    Field(String, Field),
 }
 
 impl Place {
     /// What a value here must be.
     const fn expected(&self) -> Expected {
         match self {
-            Self::Parameters | Self::Cooperation | Self::Policies | Self::Limits => Expected::Map,
+            Self::Parameters
+            | Self::Cooperation
+            | Self::Policies
+            | Self::Limits
+            | Self::Interfaces
+            | Self::Interface(_) => Expected::Map,
             Self::Behavior(_) => Expected::PolicyOrSequences,
             Self::Sequence(..) => Expected::Policy,
             Self::Limit(_) => Expected::Integer,
+            Self::Field(_, field) => field.expected(),
         }
     }
 
@@ -164,6 +123,7 @@ impl Place {
             Self::Parameters => Err(unknown(COOPERATION)),
             Self::Cooperation if part == "policies" => Ok(Self::Policies),
             Self::Cooperation if part == "limits" => Ok(Self::Limits),
+            Self::Cooperation if part == "interfaces" => Ok(Self::Interfaces),
             Self::Cooperation => Err(unknown(SECTIONS)),
             Self::Policies => match part.parse::<Behavior>() {
                 Ok(_) => Ok(Self::Behavior(part.to_owned())),
@@ -178,11 +138,27 @@ impl Place {
                 .find(|limit| limit.key() == part)
                 .map(Self::Limit)
                 .ok_or_else(|| unknown(LIMITS)),
+            Self::Interfaces if !interfaces::valid_name(part) => {
+                Err(SettingsErrorKind::InvalidInterface {
+                    given: part.to_owned(),
+                })
+            }
+            Self::Interfaces if interfaces::standard(part) => {
+                Err(SettingsErrorKind::StandardInterface {
+                    given: part.to_owned(),
+                })
+            }
+            Self::Interfaces => Ok(Self::Interface(part.to_owned())),
+            Self::Interface(name) => Field::from_key(part)
+                .map(|field| Self::Field(name.clone(), field))
+                .ok_or_else(|| unknown(interfaces::KEYS)),
             // A key below a value: the value would be a map.
-            Self::Sequence(..) | Self::Limit(_) => Err(SettingsErrorKind::WrongType {
-                expected: self.expected(),
-                found: Found::Map,
-            }),
+            Self::Sequence(..) | Self::Limit(_) | Self::Field(..) => {
+                Err(SettingsErrorKind::WrongType {
+                    expected: self.expected(),
+                    found: Found::Map,
+                })
+            }
         }
     }
 
@@ -205,6 +181,10 @@ pub(super) struct Reader<'t> {
     limits: Limits,
     /// Where each limit was set, by key.
     limits_set: BTreeMap<&'static str, Mark>,
+    /// The interfaces, each with where it was first named.
+    interfaces: BTreeMap<String, (Draft, Mark)>,
+    /// Where each interface's keys were set.
+    fields_set: BTreeMap<(String, &'static str), Mark>,
     /// The most the caller allows.
     max: Limits,
     /// Where the text ends.
@@ -212,6 +192,8 @@ pub(super) struct Reader<'t> {
 }
 
 type Read<T> = Result<T, SettingsError>;
+
+mod set;
 
 impl<'t> Reader<'t> {
     pub(super) fn new(text: &'t str, max: &Limits) -> Self {
@@ -222,6 +204,8 @@ impl<'t> Reader<'t> {
             policies: BTreeMap::new(),
             limits: Limits::default(),
             limits_set: BTreeMap::new(),
+            interfaces: BTreeMap::new(),
+            fields_set: BTreeMap::new(),
             max: *max,
             end: Mark::end(text),
         }
@@ -324,7 +308,7 @@ impl<'t> Reader<'t> {
     }
 
     /// Reads the whole text.
-    pub(super) fn read(mut self) -> Read<Config> {
+    pub(super) fn read(mut self) -> Read<Settings> {
         // `StreamStart`, then a document or the end.
         self.next()?;
         let (event, mark) = self.next()?;
@@ -403,8 +387,14 @@ impl<'t> Reader<'t> {
     fn value(&mut self, place: &Place) -> Read<()> {
         let (event, mark) = self.node()?;
         match (&event, place) {
-            (Event::MappingStart(..), Place::Sequence(..) | Place::Limit(_)) => {
+            (Event::MappingStart(..), Place::Sequence(..) | Place::Limit(_) | Place::Field(..)) => {
                 Err(self.wrong_type(mark, place.expected(), &event))
+            }
+            (Event::MappingStart(..), Place::Interface(name)) => {
+                self.interfaces
+                    .entry(name.clone())
+                    .or_insert_with(|| (Draft::default(), mark));
+                self.map(place, mark)
             }
             (Event::MappingStart(..), _) => self.map(place, mark),
             (Event::Scalar(text, style, ..), Place::Behavior(behavior)) => {
@@ -417,6 +407,9 @@ impl<'t> Reader<'t> {
             }
             (Event::Scalar(text, style, ..), Place::Limit(limit)) => {
                 self.set_limit(*limit, mark, text, *style)
+            }
+            (Event::Scalar(text, style, ..), Place::Field(name, field)) => {
+                self.set_field(name, *field, mark, text, *style)
             }
             _ => Err(self.wrong_type(mark, place.expected(), &event)),
         }
@@ -454,98 +447,8 @@ impl<'t> Reader<'t> {
         self.error(mark, SettingsErrorKind::WrongType { expected, found })
     }
 
-    /// A policy, from a string, for a key at `place`.
-    fn policy(&self, mark: Mark, text: &str, style: ScalarStyle, place: &Place) -> Read<Policy> {
-        match kind(text, style) {
-            Found::String => Policy::ALL
-                .into_iter()
-                .find(|policy| policy.as_str() == text)
-                .ok_or_else(|| {
-                    self.error(
-                        mark,
-                        SettingsErrorKind::UnknownPolicy {
-                            given: text.to_owned(),
-                        },
-                    )
-                }),
-            found => Err(self.error(
-                mark,
-                SettingsErrorKind::WrongType {
-                    expected: place.expected(),
-                    found,
-                },
-            )),
-        }
-    }
-
-    /// Sets a module's policy: a behaviour's alone, or one of its sequences'.
-    fn set_policy(
-        &mut self,
-        behavior: &str,
-        sequence: Option<&str>,
-        policy: Policy,
-        mark: Mark,
-    ) -> Read<()> {
-        // The keys were parsed when read, and are parsed again here, as a place holds strings.
-        let behavior = behavior
-            .parse::<Behavior>()
-            .map_err(|name| self.error(mark, SettingsErrorKind::InvalidBehavior(name)))?;
-        let module = match sequence {
-            None => Module::new(behavior),
-            Some(sequence) => {
-                let sequence = sequence
-                    .parse::<Sequence>()
-                    .map_err(|name| self.error(mark, SettingsErrorKind::InvalidSequence(name)))?;
-                Module::with_sequence(behavior, sequence)
-            }
-        };
-        match self.policies.entry(module) {
-            Entry::Occupied(first) => {
-                let first_line = first.get().1.line;
-                Err(self.error(mark, SettingsErrorKind::Twice { first_line }))
-            }
-            Entry::Vacant(entry) => {
-                entry.insert((policy, mark));
-                Ok(())
-            }
-        }
-    }
-
-    fn set_limit(&mut self, limit: Limit, mark: Mark, text: &str, style: ScalarStyle) -> Read<()> {
-        let found = kind(text, style);
-        if found != Found::Integer {
-            let expected = Expected::Integer;
-            return Err(self.error(mark, SettingsErrorKind::WrongType { expected, found }));
-        }
-        let out_of_range = || SettingsErrorKind::OutOfRange {
-            given: text.to_owned(),
-            max: limit.type_max(),
-        };
-        let value = unsigned_integer(text).ok_or_else(|| self.error(mark, out_of_range()))?;
-        let limits = limit
-            .set(self.limits, value)
-            .ok_or_else(|| self.error(mark, out_of_range()))?;
-        if let Some(first) = self.limits_set.get(limit.key()) {
-            let first_line = first.line;
-            return Err(self.error(mark, SettingsErrorKind::Twice { first_line }));
-        }
-        let max = limit.get(&self.max);
-        if value > max {
-            let kind = SettingsErrorKind::AboveMaximum { given: value, max };
-            return Err(self.error(mark, kind));
-        }
-        // What the core refuses, found where the limit is written: this limit with the
-        // defaults for the others.
-        let alone = limit.set(Limits::default(), value).unwrap_or_default();
-        State::new(Config::new([]).with_limits(alone))
-            .map_err(|error| self.error(mark, SettingsErrorKind::Refused(error)))?;
-        self.limits_set.insert(limit.key(), mark);
-        self.limits = limits;
-        Ok(())
-    }
-
     /// The configuration, once the text is read; `parameters` is where `ros__parameters` is.
-    fn finish(mut self, parameters: Mark) -> Read<Config> {
+    fn finish(mut self, parameters: Mark) -> Read<Settings> {
         self.path = vec![core::mem::take(&mut self.node), ROS_PARAMETERS.to_owned()];
         if self.policies.is_empty() {
             return Err(self.error(parameters, SettingsErrorKind::NoPolicies));
@@ -568,6 +471,35 @@ impl<'t> Reader<'t> {
                 SettingsErrorKind::Refused(error),
             ));
         }
-        Ok(config)
+        let mut bindings = Vec::with_capacity(self.interfaces.len());
+        for (name, (draft, mark)) in core::mem::take(&mut self.interfaces) {
+            let at = |reader: &mut Self, kind| {
+                reader.path.extend([
+                    "cooperation".to_owned(),
+                    "interfaces".to_owned(),
+                    name.clone(),
+                ]);
+                reader.error(mark, kind)
+            };
+            let binding = match draft.binding(&name) {
+                Ok(binding) => binding,
+                Err(field) => {
+                    let field = field.key();
+                    return Err(at(&mut self, SettingsErrorKind::MissingField { field }));
+                }
+            };
+            if let Some(module) = binding
+                .modules()
+                .find(|module| !config.policies.contains_key(module))
+            {
+                let module = module.to_string();
+                return Err(at(&mut self, SettingsErrorKind::Unbound { module }));
+            }
+            bindings.push(binding);
+        }
+        Ok(Settings {
+            config,
+            interfaces: bindings,
+        })
     }
 }

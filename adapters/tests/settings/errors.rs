@@ -259,8 +259,8 @@ fn a_misspelt_key_is_refused_listing_the_keys_there() {
         &cooperation(&["      polices:", "        merge: optional"]),
         (4, 7),
         "/**.ros__parameters.cooperation.polices",
-        &unknown("polices", &["policies", "limits"]),
-        "unknown key \"polices\"; expected one of `policies`, `limits`",
+        &unknown("polices", &["policies", "limits", "interfaces"]),
+        "unknown key \"polices\"; expected one of `policies`, `limits`, `interfaces`",
     );
     refused(
         &lines(&["/**:", "  ros__parameters:", "    cooperaton: {}"]),

@@ -100,6 +100,7 @@ fn the_documentation_lists_every_kind_of_error() {
     let tests = [
         read("adapters/tests/settings/errors.rs"),
         read("adapters/tests/settings/errors_values.rs"),
+        read("adapters/tests/settings/interfaces.rs"),
     ]
     .concat();
     let made: BTreeSet<String> = tests
@@ -112,5 +113,5 @@ fn the_documentation_lists_every_kind_of_error() {
         })
         .collect();
     assert_eq!(table, made);
-    assert_eq!(table.len(), 23, "{table:?}");
+    assert_eq!(table.len(), 29, "{table:?}");
 }

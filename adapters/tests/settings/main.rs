@@ -4,6 +4,7 @@
 mod errors;
 mod errors_values;
 mod example;
+mod interfaces;
 mod layouts;
 mod properties;
 

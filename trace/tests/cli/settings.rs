@@ -83,7 +83,7 @@ fn a_settings_error_names_the_file_line_and_key() {
         stderr(&output),
         format!(
             "error: {file}: line 4, column 7: /**.ros__parameters.cooperation.polices: unknown \
-             key \"polices\"; expected one of `policies`, `limits`\n"
+             key \"polices\"; expected one of `policies`, `limits`, `interfaces`\n"
         )
     );
 }
