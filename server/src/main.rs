@@ -112,7 +112,12 @@ async fn main() -> ExitCode {
 async fn run(args: Args) -> Result<(), String> {
     let publish_every = cooperation_adapters::engine::publish_every(args.rate)
         .map_err(|error| format!("--rate {}: {error}", args.rate))?;
-    let interfaces = interfaces(args.settings.as_deref())?;
+    #[cfg(feature = "dds")]
+    let (node, dds) = dds::doors(&args, publish_every)?;
+    #[cfg(not(feature = "dds"))]
+    let (node, dds) = (Arc::new(own_engine(&args)?), None::<Door>);
+    // A module's credential may name the interfaces the engine binds.
+    let interfaces = node.interfaces();
     let credentials = match &args.credentials {
         Some(path) => Some(read_credentials(path, &interfaces, args.per_credential)?),
         None => None,
@@ -152,10 +157,6 @@ async fn run(args: Args) -> Result<(), String> {
             None => "any client may act as the operator or as any planning module",
         }
     );
-    #[cfg(feature = "dds")]
-    let (node, dds) = dds::doors(&args, publish_every)?;
-    #[cfg(not(feature = "dds"))]
-    let (node, dds) = (Arc::new(own_engine(&args)?), None::<Door>);
     // A door's thread that ends, for whatever reason (its sender dropped unsent when it
     // panics), stops the node.
     let (dds, door_ended) = match dds {
@@ -197,17 +198,6 @@ fn own_engine(args: &Args) -> Result<Node, String> {
         },
     )
     .map_err(|error| error.to_string())
-}
-
-/// The names of the RTC interfaces the node binds: the standard ones and those its settings
-/// add, which a module's credential may name.
-fn interfaces(settings: Option<&std::path::Path>) -> Result<Vec<String>, String> {
-    let settings = cooperation_adapters::settings::load(settings)?;
-    Ok(cooperation_adapters::rtc::Binding::standard()
-        .into_iter()
-        .chain(settings.interfaces)
-        .map(|binding| binding.name)
-        .collect())
 }
 
 /// The credentials file at `path`, read and checked against the node's `interfaces`.
@@ -368,7 +358,13 @@ mod dds {
                 tracing::error!(%error, "the stack node could not be woken for a call");
             }
         };
-        let node = Arc::new(Node::relayed(calls, Box::new(wake), deadline + RELAY_SLACK));
+        let interfaces = stack.interfaces().map(str::to_owned).collect();
+        let node = Arc::new(Node::relayed(
+            calls,
+            Box::new(wake),
+            deadline + RELAY_SLACK,
+            interfaces,
+        ));
         let shown = Arc::clone(&node);
         stack.open_door(cooperation_dds::Door {
             calls: incoming,

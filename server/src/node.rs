@@ -99,6 +99,8 @@ struct Relayed {
     wake: Box<dyn Fn() + Send + Sync>,
     /// The longest a call waits for its reply.
     wait: std::time::Duration,
+    /// The names of the relay's RTC interfaces.
+    interfaces: Vec<String>,
 }
 
 impl core::fmt::Debug for Core {
@@ -218,14 +220,21 @@ impl Node {
     /// `calls` with where its reply goes, `wake` wakes that thread for it, and a call not
     /// answered within `wait` is answered with a refusal that says so. The relay shows the
     /// node what to publish ([`show`](Self::show)); until it first does, the streams have
-    /// nothing to send.
+    /// nothing to send. `interfaces` are the names of the relay's RTC interfaces.
     #[must_use]
     pub fn relayed(
         calls: std::sync::mpsc::Sender<(Request, std::sync::mpsc::Sender<Reply>)>,
         wake: Box<dyn Fn() + Send + Sync>,
         wait: std::time::Duration,
+        interfaces: Vec<String>,
     ) -> Self {
-        Self::over(Core::Relayed(Relayed { calls, wake, wait }), Clock::start())
+        let relayed = Relayed {
+            calls,
+            wake,
+            wait,
+            interfaces,
+        };
+        Self::over(Core::Relayed(relayed), Clock::start())
     }
 
     fn over(core: Core, clock: Clock) -> Self {
@@ -245,6 +254,24 @@ impl Node {
         match &self.core {
             Core::Engine(shared) => Some(shared),
             Core::Relayed(_) => None,
+        }
+    }
+
+    /// The names of the RTC interfaces the node's engine binds (the standard ones and those
+    /// its settings add), in the engine's order: those a module's credential may name.
+    #[must_use]
+    pub fn interfaces(&self) -> Vec<String> {
+        match &self.core {
+            Core::Engine(shared) => shared.read(|engine| {
+                engine
+                    .host()
+                    .rtc()
+                    .bindings()
+                    .iter()
+                    .map(|binding| binding.name.clone())
+                    .collect()
+            }),
+            Core::Relayed(relayed) => relayed.interfaces.clone(),
         }
     }
 

@@ -25,8 +25,12 @@ fn relayed(wait: Duration) -> (Arc<Node>, Calls, Arc<AtomicUsize>) {
     let wake = move || {
         counter.fetch_add(1, Ordering::SeqCst);
     };
+    let interfaces = cooperation_adapters::rtc::Binding::standard()
+        .into_iter()
+        .map(|binding| binding.name)
+        .collect();
     (
-        Arc::new(Node::relayed(calls, Box::new(wake), wait)),
+        Arc::new(Node::relayed(calls, Box::new(wake), wait, interfaces)),
         incoming,
         woken,
     )
