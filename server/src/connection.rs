@@ -274,9 +274,11 @@ impl Stream {
     }
 
     /// Starts, re-times or stops the topic. The first subscription of the connection gets
-    /// the newest publication at once; a later one only publications it was not yet sent.
+    /// the newest publication at once, if there is one yet (in the stack mode, none until the
+    /// relay first shows one); a later one only publications it was not yet sent.
     fn set(&mut self, every: Option<Duration>) {
-        if every.is_some() && self.every.is_none() && !self.sent {
+        let published = !self.receiver.borrow().frame.is_empty();
+        if every.is_some() && self.every.is_none() && !self.sent && published {
             self.receiver.mark_changed();
         }
         self.every = every;

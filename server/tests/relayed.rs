@@ -151,3 +151,23 @@ async fn a_call_after_the_owner_stopped_is_refused_saying_so() {
         "{response}"
     );
 }
+
+/// A subscription made before the relay first showed anything is sent nothing until it does,
+/// then that publication: never an empty frame.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_subscription_before_the_first_publication_waits_for_it() {
+    let (node, calls, _) = relayed(WAIT);
+    let served = serve_node(Arc::clone(&node), Options::default()).await;
+    let mut operator = Client::connect(&served.url).await;
+    operator.subscribe("/api/planning/velocity_factors").await;
+    // A call's round trip: the subscription is taken before the owner starts.
+    operator.call("/rosapi/topics", json!({})).await;
+    own(&node, calls);
+    let frame = operator.next_op("publish").await;
+    assert_eq!(
+        frame["topic"],
+        json!("/api/planning/velocity_factors"),
+        "{frame}"
+    );
+    assert!(frame["msg"]["factors"].is_array(), "{frame}");
+}
