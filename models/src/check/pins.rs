@@ -216,7 +216,7 @@ pub const RELAY_1: Pin = Pin {
     model: "relay",
     bounds: "1 id, 2 calls, 1 move, 1 loss, split",
     search: "BFS",
-    unique: 413_864,
+    unique: 423_772,
     generated: None,
 };
 
@@ -226,7 +226,7 @@ pub const RELAY_2: Pin = Pin {
     model: "relay",
     bounds: "2 ids, 2 calls, 1 move, 1 loss",
     search: "BFS",
-    unique: 4_131_892,
+    unique: 4_211_772,
     generated: None,
 };
 
@@ -237,7 +237,7 @@ pub const RELAY_1_TWO_MOVES: Pin = Pin {
     model: "relay",
     bounds: "1 id, 2 calls, 2 moves, 1 loss, split",
     search: "BFS",
-    unique: 3_518_761,
+    unique: 3_627_878,
     generated: None,
 };
 

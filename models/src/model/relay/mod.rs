@@ -53,15 +53,19 @@ pub enum RelayFault {
     /// The host stamps arrays when it reads them, so a late array is taken as new: each
     /// publication delivers the one before it.
     LateArrayRestamped,
+    /// The host passes an operator decision a module cannot take for one scene (autonomous,
+    /// none) on as deactivate, the nearest it can.
+    InexpressibleAsDeactivate,
 }
 
 impl RelayFault {
     /// Every fault.
-    pub const ALL: [Self; 4] = [
+    pub const ALL: [Self; 5] = [
         Self::SuccessOnTimeout,
         Self::AnsweredForModule,
         Self::CommandsInverted,
         Self::LateArrayRestamped,
+        Self::InexpressibleAsDeactivate,
     ];
 }
 
@@ -245,7 +249,7 @@ impl RelayModel {
         &self,
         next: &mut RelayStep,
         request: &wire::Request,
-        asked: Vec<(SceneId, Decision)>,
+        asked: Vec<(SceneId, OperatorDecision)>,
     ) {
         let call = u64::from(next.spent.0);
         next.spent.0 += 1;
@@ -262,10 +266,10 @@ impl RelayModel {
         next: &mut RelayStep,
         _call: u64,
         response: &wire::Response,
-        asked: &[(SceneId, Decision)],
+        asked: &[(SceneId, OperatorDecision)],
     ) {
         let success = response.status().success;
-        if success && asked.iter().any(|command| !next.taken.contains(command)) {
+        if success && asked.iter().any(|&(id, asked)| !next.took(id, asked)) {
             next.broken |= broken::SUCCESS;
         }
     }
@@ -402,8 +406,9 @@ impl Model for RelayModel {
         }
         if state.spent.0 < self.bounds.operator_calls {
             for (id, _) in state.relay.state().scenes() {
-                actions.push(RelayAction::Command(id, OperatorDecision::Activate));
-                actions.push(RelayAction::Command(id, OperatorDecision::Deactivate));
+                for decision in OperatorDecision::ALL {
+                    actions.push(RelayAction::Command(id, decision));
+                }
             }
             actions.push(RelayAction::Policy(Policy::Optional));
             actions.push(RelayAction::Policy(Policy::Required));
@@ -505,20 +510,20 @@ impl Model for RelayModel {
                 next.relay.handle_timeout(now);
             }
             RelayAction::Command(id, decision) => {
-                let code = match decision {
-                    OperatorDecision::Activate => 2,
-                    _ => 1,
+                let sent = match (self.fault, decision) {
+                    (
+                        Some(RelayFault::InexpressibleAsDeactivate),
+                        OperatorDecision::Autonomous | OperatorDecision::Undecided,
+                    ) => OperatorDecision::Deactivate,
+                    _ => decision,
                 };
+                let code = wire::CooperationDecision::of(sent).decision;
                 let json = format!(
                     r#"{{"commands": [{{"uuid": {{"uuid": {:?}}}, "cooperator": {{"decision": {code}}}}}]}}"#,
                     id.to_bytes()
                 );
                 let request = wire::Service::SetCommands.read(json.as_bytes()).ok()?;
-                let asked = match decision {
-                    OperatorDecision::Activate => Decision::Activate,
-                    _ => Decision::Deactivate,
-                };
-                self.operator(&mut next, &request, vec![(id, asked)]);
+                self.operator(&mut next, &request, vec![(id, decision)]);
             }
             RelayAction::Policy(policy) => {
                 let code = if policy == Policy::Optional { 1 } else { 2 };

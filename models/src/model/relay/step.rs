@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use cooperation::{Decision, SceneId};
+use cooperation::{Decision, OperatorDecision, SceneId};
 use cooperation_adapters::engine::Now;
 use cooperation_adapters::relay::{ModuleAnswer, Relay};
 use stateright::Representative;
@@ -43,7 +43,7 @@ pub struct RelayStep {
     /// Answers on their way back.
     pub answers: Vec<(cooperation_adapters::relay::CallId, ModuleAnswer)>,
     /// Each operator call's commands, until it is answered.
-    pub asked: Vec<(u64, Vec<(SceneId, Decision)>)>,
+    pub asked: Vec<(u64, Vec<(SceneId, OperatorDecision)>)>,
     /// Every command the module took (oracle, from its answers).
     pub taken: BTreeSet<(SceneId, Decision)>,
     /// Calls sent whose call or answer was lost: the relay waits for their deadline.
@@ -70,6 +70,18 @@ impl Representative for RelayStep {
 }
 
 impl RelayStep {
+    /// Whether the module took the operator's `asked` for scene `id` (oracle): a module takes
+    /// only activate or deactivate (upstream's `Command`), so never autonomous or none.
+    #[must_use]
+    pub fn took(&self, id: SceneId, asked: OperatorDecision) -> bool {
+        let decision = match asked {
+            OperatorDecision::Activate => Decision::Activate,
+            OperatorDecision::Deactivate => Decision::Deactivate,
+            OperatorDecision::Autonomous | OperatorDecision::Undecided => return false,
+        };
+        self.taken.contains(&(id, decision))
+    }
+
     /// The clock's reading.
     #[must_use]
     pub fn now(&self) -> Now {
