@@ -275,6 +275,19 @@ impl Node {
         }
     }
 
+    /// The services the node answers, as [`Endpoint::ALL`](engine::Endpoint::ALL) orders
+    /// them: all of them, or in the stack mode all but the module sync, since planning modules
+    /// report there through their own RTC topics (a sync is refused, saying so).
+    #[must_use]
+    pub fn endpoints(&self) -> Vec<engine::Endpoint> {
+        engine::Endpoint::ALL
+            .into_iter()
+            .filter(|endpoint| {
+                matches!(self.core, Core::Engine(_)) || *endpoint != engine::Endpoint::Sync
+            })
+            .collect()
+    }
+
     /// The operator decisions `set_commands` may set, as the AD API's constants: all four,
     /// or in the stack mode those a planning module's RTC interface can take
     /// ([`cooperation_adapters::relay::EXPRESSIBLE`]); any other is refused.

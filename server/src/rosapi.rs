@@ -52,9 +52,9 @@ fn topics() -> Vec<(&'static str, &'static str)> {
         .collect()
 }
 
-/// The node's services (its own and `rosapi`'s) and their types.
-fn services() -> Vec<(&'static str, String)> {
-    Endpoint::ALL
+/// The node's services (`endpoints`, and `rosapi`'s) and their types.
+fn services(endpoints: &[Endpoint]) -> Vec<(&'static str, String)> {
+    endpoints
         .iter()
         .map(|endpoint| (endpoint.name(), endpoint.ros_type().to_owned()))
         .chain(SERVICES.iter().map(|name| (*name, ros_type(name))))
@@ -71,10 +71,11 @@ struct Args {
     r#type: String,
 }
 
-/// The answer of `rosapi` service `name` to `args`: the response's values, or why the request
+/// The answer of `rosapi` service `name` to `args` for a node answering `endpoints`
+/// ([`Node::endpoints`](crate::Node::endpoints)): the response's values, or why the request
 /// does not read. `None` if the node does not answer `name`.
 #[must_use]
-pub fn answer(name: &str, args: &[u8]) -> Option<Result<Value, String>> {
+pub fn answer(name: &str, args: &[u8], endpoints: &[Endpoint]) -> Option<Result<Value, String>> {
     if !SERVICES.contains(&name) {
         return None;
     }
@@ -91,7 +92,7 @@ pub fn answer(name: &str, args: &[u8]) -> Option<Result<Value, String>> {
         .into_iter()
         .map(|(n, t)| (n, t.to_owned()))
         .collect();
-    let services = services();
+    let services = services(endpoints);
     let names = |list: &[(&str, String)], of: Option<&str>| -> Vec<String> {
         list.iter()
             .filter(|(_, t)| of.is_none_or(|of| crate::rosbridge::same_type(of, t)))

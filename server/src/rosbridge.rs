@@ -301,7 +301,7 @@ fn call_service(node: &Node, envelope: &Envelope<'_>, grant: &Grant) -> (Vec<Act
         if !given.is_empty() && !same_type(given, &rosapi::ros_type(name)) {
             return failed(&format!("service {name:?} has no type {given:?}"));
         }
-        return match rosapi::answer(name, args) {
+        return match rosapi::answer(name, args, &node.endpoints()) {
             Some(Ok(values)) => (vec![respond(name, id, &values)], None),
             Some(Err(message)) => failed(&message),
             None => failed(&format!("no service {name:?}")),

@@ -171,3 +171,37 @@ async fn a_subscription_before_the_first_publication_waits_for_it() {
     );
     assert!(frame["msg"]["factors"].is_array(), "{frame}");
 }
+
+/// `rosapi` lists the services the stack mode answers: the AD API's, not the module sync,
+/// which the modules' own RTC topics replace there.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn rosapi_lists_no_module_sync_in_the_stack_mode() {
+    let (node, calls, _) = relayed(WAIT);
+    own(&node, calls);
+    let served = serve_node(node, Options::default()).await;
+    let mut client = Client::connect(&served.url).await;
+    let response = client.call("/rosapi/services", json!({})).await;
+    let services: Vec<&str> = response["values"]["services"]
+        .as_array()
+        .expect("a list")
+        .iter()
+        .filter_map(serde_json::Value::as_str)
+        .filter(|name| !name.starts_with("/rosapi/"))
+        .collect();
+    assert_eq!(
+        services,
+        [
+            "/api/planning/cooperation/set_commands",
+            "/api/planning/cooperation/set_policies",
+            "/api/planning/cooperation/get_policies",
+        ],
+        "{response}"
+    );
+    let response = client
+        .call(
+            "/rosapi/service_type",
+            json!({"service": "/cooperation/rtc/sync"}),
+        )
+        .await;
+    assert_eq!(response["values"]["type"], json!(""), "{response}");
+}
