@@ -299,10 +299,6 @@ mod dds {
 
     use super::{own_engine, Args, Door};
 
-    /// How much longer than a module's deadline a call through the stack's door may wait: the
-    /// relay's turn and its publication.
-    const RELAY_SLACK: Duration = Duration::from_secs(2);
-
     /// The node, and its DDS door: `cooperation-dds`'s stack node in the stack mode (the node
     /// a door onto its relay), or its node on the node's own engine with `--dds-domain`.
     pub(super) fn doors(
@@ -362,7 +358,9 @@ mod dds {
         let node = Arc::new(Node::relayed(
             calls,
             Box::new(wake),
-            deadline + RELAY_SLACK,
+            Duration::from_millis(cooperation_adapters::relay::answer_wait_ms(
+                args.deadline_ms,
+            )),
             interfaces,
         ));
         let shown = Arc::clone(&node);

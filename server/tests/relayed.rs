@@ -205,3 +205,23 @@ async fn rosapi_lists_no_module_sync_in_the_stack_mode() {
         .await;
     assert_eq!(response["values"]["type"], json!(""), "{response}");
 }
+
+/// `docs/server.md`: a call the relay does not answer "within `--deadline-ms` plus 2 s" is
+/// refused. The stack mode's door waits [`answer_wait_ms`] of the deadline, the relay's own
+/// limit.
+///
+/// [`answer_wait_ms`]: cooperation_adapters::relay::answer_wait_ms
+#[test]
+fn the_stack_door_waits_the_deadline_and_the_slack_the_docs_state() {
+    use cooperation_adapters::relay::{answer_wait_ms, ANSWER_SLACK_MS, DEADLINE_MS};
+    let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/server.md"))
+        .expect("docs/server.md");
+    let stated = format!(
+        "within `--deadline-ms` plus {} s is answered with a refusal",
+        ANSWER_SLACK_MS / 1_000
+    );
+    assert!(docs.contains(&stated), "docs/server.md states: {stated}");
+    assert_eq!(answer_wait_ms(DEADLINE_MS), DEADLINE_MS + 2_000);
+    assert_eq!(answer_wait_ms(250), 2_250);
+    assert_eq!(answer_wait_ms(u64::MAX), u64::MAX, "no overflow");
+}

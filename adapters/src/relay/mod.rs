@@ -48,6 +48,19 @@ use pending::{Outcome, Part, Pending};
 /// milliseconds.
 pub const DEADLINE_MS: u64 = 1_000;
 
+/// How much longer than the modules' deadline a host waits for the relay's answer to an
+/// operator's call, in milliseconds, before it answers the call itself with a refusal. The relay
+/// answers every call by the deadline ([`Relay::handle_timeout`]); this covers the relay's turn
+/// and its publication, and a relay thread that has stopped turning.
+pub const ANSWER_SLACK_MS: u64 = 2_000;
+
+/// The longest a host waits for the relay's answer to an operator's call when modules have
+/// `deadline_ms` to answer: the deadline and [`ANSWER_SLACK_MS`].
+#[must_use]
+pub const fn answer_wait_ms(deadline_ms: u64) -> u64 {
+    deadline_ms.saturating_add(ANSWER_SLACK_MS)
+}
+
 /// The operator decisions an upstream RTC interface can take for one scene, and so the only
 /// ones the relay forwards (`[COOP-RELAY-INEXPRESSIBLE.1]`).
 pub const EXPRESSIBLE: [OperatorDecision; 2] =
