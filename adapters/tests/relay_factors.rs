@@ -2,7 +2,8 @@
 //! (`cooperation_adapters::relay::factors`), case by case and as properties of any input.
 
 use cooperation::Distance;
-use cooperation_adapters::relay::factors::{self, MATCH_M};
+use cooperation_adapters::engine::{Now, Publication};
+use cooperation_adapters::relay::factors::{self, Stream, MATCH_M};
 use cooperation_adapters::wire::{
     CooperationStatus, SteeringFactor, SteeringFactorArray, VelocityFactor, VelocityFactorArray,
 };
@@ -144,6 +145,132 @@ fn coop_relay_factors_1_a_stack_factor_with_a_status_is_left_as_it_is() {
         merged.factors,
         vec![cooperating, velocity("intersection", 30.0, Some(1))]
     );
+}
+
+/// The clock reading `ms` milliseconds.
+fn at(ms: i64) -> Now {
+    Now::new(ms * 1_000_000, cooperation_adapters::Time::default())
+}
+
+/// The engine's publication of revision `revision`, with one scene's velocity factor.
+fn scenes(revision: u64) -> Publication {
+    Publication {
+        revision,
+        velocity: velocity_array(vec![velocity("intersection", 30.0, Some(1))]),
+        ..Publication::default()
+    }
+}
+
+/// The stream publishes when a side changed, and only then; nothing before the engine's first
+/// publication; the engine's revision on each.
+#[test]
+fn coop_relay_factors_1_published_whenever_either_side_changes() {
+    let mut stream = Stream::default();
+    stream.take_velocity(
+        velocity_array(vec![velocity("crosswalk", 12.0, None)]),
+        at(0),
+    );
+    assert_eq!(
+        stream.poll(at(0)),
+        None,
+        "nothing before the engine's first"
+    );
+    stream.take_scenes(scenes(3));
+    let first = stream.poll(at(1)).expect("the engine published");
+    assert_eq!(first.revision, 3);
+    assert_eq!(first.velocity.factors.len(), 2, "{first:?}");
+    assert_eq!(stream.poll(at(2)), None, "nothing changed");
+    stream.take_velocity(
+        velocity_array(vec![velocity("intersection", 30.2, None)]),
+        at(5),
+    );
+    let matched = stream.poll(at(5)).expect("the stack's came");
+    assert_eq!(matched.revision, 3);
+    assert_eq!(matched.velocity.factors.len(), 1, "{matched:?}");
+    assert_eq!(matched.velocity.factors[0].detail, "stack");
+    assert_eq!(matched.velocity.factors[0].cooperation, vec![status(1)]);
+    stream.take_scenes(scenes(4));
+    assert_eq!(stream.poll(at(6)).expect("the engine's").revision, 4);
+    assert_eq!(stream.poll(at(7)), None);
+}
+
+/// An array the last publication used is dropped once older than the time to live, in a
+/// publication of its own; the stream says when that is due.
+#[test]
+fn coop_relay_factors_1_a_stale_stack_array_is_dropped_when_it_lapses() {
+    let ttl = i64::try_from(factors::INPUT_TTL_MS).expect("small");
+    let mut stream = Stream::default();
+    assert_eq!(stream.until_stale_ms(at(0)), u64::MAX, "nothing used");
+    stream.take_scenes(scenes(1));
+    stream.take_velocity(
+        velocity_array(vec![velocity("crosswalk", 12.0, None)]),
+        at(0),
+    );
+    stream.take_steering(
+        SteeringFactorArray {
+            factors: vec![steering(1, 20.0, None)],
+            ..SteeringFactorArray::default()
+        },
+        at(400),
+    );
+    let both = stream.poll(at(400)).expect("due");
+    assert_eq!(both.velocity.factors.len(), 2);
+    assert_eq!(both.steering.factors.len(), 1);
+    assert_eq!(
+        stream.until_stale_ms(at(400)),
+        factors::INPUT_TTL_MS - 400 + 1
+    );
+    assert_eq!(
+        stream.poll(at(ttl)),
+        None,
+        "still fresh at the time to live"
+    );
+    let lapsed = stream.poll(at(ttl + 1)).expect("the velocity array lapsed");
+    assert_eq!(
+        lapsed.velocity.factors.len(),
+        1,
+        "only the scene's: {lapsed:?}"
+    );
+    assert_eq!(
+        lapsed.steering.factors.len(),
+        1,
+        "the steering array is fresh"
+    );
+    assert_eq!(stream.poll(at(ttl + 2)), None, "dropped once");
+    assert_eq!(
+        stream.until_stale_ms(at(ttl + 2)),
+        factors::INPUT_TTL_MS - 602 + 1
+    );
+    let lapsed = stream
+        .poll(at(ttl + 401))
+        .expect("the steering array lapsed");
+    assert!(lapsed.steering.factors.is_empty());
+    assert_eq!(stream.until_stale_ms(at(ttl + 401)), u64::MAX);
+    assert_eq!(stream.poll(at(5 * ttl)), None);
+}
+
+/// An array already stale when first polled is not used, and so never lapses; a clock that
+/// went back takes nothing as stale.
+#[test]
+fn coop_relay_factors_1_a_stale_array_is_not_used_and_a_clock_going_back_ages_nothing() {
+    let ttl = i64::try_from(factors::INPUT_TTL_MS).expect("small");
+    let mut stream = Stream::default();
+    stream.take_scenes(scenes(1));
+    stream.take_velocity(
+        velocity_array(vec![velocity("crosswalk", 12.0, None)]),
+        at(0),
+    );
+    let published = stream.poll(at(ttl + 1)).expect("due");
+    assert_eq!(published.velocity.factors.len(), 1, "the scene's only");
+    assert_eq!(stream.until_stale_ms(at(ttl + 1)), u64::MAX);
+    assert_eq!(stream.poll(at(ttl + 2)), None);
+    stream.take_velocity(
+        velocity_array(vec![velocity("crosswalk", 12.0, None)]),
+        at(10_000),
+    );
+    let back = stream.poll(at(0)).expect("due");
+    assert_eq!(back.velocity.factors.len(), 2, "fresh: {back:?}");
+    assert_eq!(stream.until_stale_ms(at(0)), factors::INPUT_TTL_MS + 1);
 }
 
 fn any_velocity(scene: Option<u8>) -> impl Strategy<Value = VelocityFactor> {

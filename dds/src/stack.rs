@@ -13,7 +13,7 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
@@ -64,13 +64,11 @@ pub struct Door {
     pub shown: Box<dyn FnMut(&Publication) + Send>,
 }
 
-/// The stack's own factors (`default_adapi`'s, remapped), the newest of each topic with when
-/// it came (`[COOP-RELAY-FACTORS.1]`).
+/// The readers of the stack's own factors (`default_adapi`'s, remapped,
+/// `[COOP-RELAY-FACTORS.1]`).
 struct Input {
     velocity_reader: rustdds::no_key::DataReader<Raw, RawAdapter>,
     steering_reader: rustdds::no_key::DataReader<Raw, RawAdapter>,
-    velocity: Option<(wire::VelocityFactorArray, Instant)>,
-    steering: Option<(wire::SteeringFactorArray, Instant)>,
 }
 
 impl Input {
@@ -98,30 +96,17 @@ impl Input {
         Ok(Self {
             velocity_reader,
             steering_reader,
-            velocity: None,
-            steering: None,
         })
     }
 
-    /// Takes what came; whether anything did.
-    fn take(&mut self) -> bool {
-        let velocity = newest(&mut self.velocity_reader, factors::VELOCITY_INPUT);
-        let steering = newest(&mut self.steering_reader, factors::STEERING_INPUT);
-        let came = velocity.is_some() || steering.is_some();
-        if let Some(array) = velocity {
-            self.velocity = Some((array, Instant::now()));
+    /// Gives `stream` the newest array of each topic that came.
+    fn take(&mut self, stream: &mut factors::Stream, now: Now) {
+        if let Some(array) = newest(&mut self.velocity_reader, factors::VELOCITY_INPUT) {
+            stream.take_velocity(array, now);
         }
-        if let Some(array) = steering {
-            self.steering = Some((array, Instant::now()));
+        if let Some(array) = newest(&mut self.steering_reader, factors::STEERING_INPUT) {
+            stream.take_steering(array, now);
         }
-        came
-    }
-
-    /// Whether an array came within the last [`factors::INPUT_TTL_MS`].
-    fn fresh<T>(input: Option<&(T, Instant)>) -> Option<&T> {
-        input
-            .filter(|(_, came)| came.elapsed() <= Duration::from_millis(factors::INPUT_TTL_MS))
-            .map(|(array, _)| array)
     }
 }
 
@@ -157,8 +142,8 @@ pub struct Stack {
     modules: Vec<Module>,
     factors: Factors,
     input: Input,
-    /// The engine's newest publication: the scenes' factors.
-    scenes: Option<cooperation_adapters::engine::Publication>,
+    /// The one factor stream: what to publish, and when.
+    stream: factors::Stream,
     replies: Replies,
     awaiting: BTreeMap<OperatorCall, Awaiting>,
     next_operator: u64,
@@ -260,7 +245,7 @@ impl Stack {
             modules,
             factors,
             input,
-            scenes: None,
+            stream: factors::Stream::default(),
             replies: Replies::default(),
             awaiting: BTreeMap::new(),
             next_operator: 0,
@@ -298,7 +283,12 @@ impl Stack {
         let mut events = Events::with_capacity(256);
         while !stop.load(Ordering::Relaxed) {
             let now = self.clock.now();
-            let until_timeout = Duration::from_millis(self.relay.engine().until_timeout_ms(now));
+            let until_timeout = Duration::from_millis(
+                self.relay
+                    .engine()
+                    .until_timeout_ms(now)
+                    .min(self.stream.until_stale_ms(now)),
+            );
             let busy = !(self.replies.is_empty() && self.relay.is_idle());
             wait(&mut self.poll, &mut events, busy, until_timeout)?;
             self.step();
@@ -401,33 +391,19 @@ impl Stack {
         }
     }
 
-    /// Publishes the factors when the engine's are due or the stack's came
-    /// (`[COOP-RELAY-FACTORS.1]`).
+    /// Publishes the factors when the one factor stream says (`[COOP-RELAY-FACTORS.1]`).
     fn publish(&mut self, now: Now) {
-        let came = self.input.take();
-        let due = self.relay.poll_publication(now);
-        let fresh = due.is_some();
-        if let Some(publication) = due {
-            self.scenes = Some(publication);
+        self.input.take(&mut self.stream, now);
+        if let Some(publication) = self.relay.poll_publication(now) {
+            self.stream.take_scenes(publication);
         }
-        let Some(scenes) = &self.scenes else {
+        let Some(publication) = self.stream.poll(now) else {
             return;
         };
-        if !(fresh || came) {
-            return;
-        }
-        let velocity =
-            factors::velocity(Input::fresh(self.input.velocity.as_ref()), &scenes.velocity);
-        let steering =
-            factors::steering(Input::fresh(self.input.steering.as_ref()), &scenes.steering);
-        self.factors.write(&velocity, &steering);
+        self.factors
+            .write(&publication.velocity, &publication.steering);
         if let Some(door) = &mut self.door {
-            (door.shown)(&Publication {
-                revision: scenes.revision,
-                velocity,
-                steering,
-                scenes: scenes.scenes.clone(),
-            });
+            (door.shown)(&publication);
         }
     }
 

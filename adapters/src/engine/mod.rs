@@ -138,7 +138,7 @@ pub struct Handled {
 }
 
 /// One publication of every stream, as the core was when it was polled.
-#[derive(Clone, PartialEq, Debug)]
+#[derive(Clone, PartialEq, Debug, Default)]
 pub struct Publication {
     /// The revision of the state it shows: a stream never goes back to an older one.
     pub revision: u64,

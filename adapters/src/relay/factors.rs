@@ -40,6 +40,7 @@
 
 use cooperation::Distance;
 
+use crate::engine::{Now, Publication};
 use crate::wire::{CooperationStatus, SteeringFactorArray, VelocityFactorArray};
 
 /// The topic the stack's velocity factors are remapped to.
@@ -164,5 +165,121 @@ pub fn steering(
     SteeringFactorArray {
         header: scenes.header.clone(),
         factors: merge(stack.map_or(&[][..], |s| &s.factors), &scenes.factors),
+    }
+}
+
+/// The one factor stream as a host publishes it (`[COOP-RELAY-FACTORS.1]`): the stack's newest
+/// arrays, each with the reading it came at, and the engine's newest publication. It says what
+/// to publish and when: whenever either side changed, and when an array the last publication
+/// used grows older than [`INPUT_TTL_MS`]. The host reads the topics and the clock, and writes
+/// what [`poll`](Self::poll) gives.
+///
+/// ```
+/// use cooperation_adapters::engine::{Now, Publication};
+/// use cooperation_adapters::relay::factors::{Stream, INPUT_TTL_MS};
+/// use cooperation_adapters::wire::{VelocityFactor, VelocityFactorArray};
+/// use cooperation_adapters::Time;
+///
+/// let at = |ms: i64| Now::new(ms * 1_000_000, Time::default());
+/// let mut stream = Stream::default();
+/// stream.take_scenes(Publication::default());
+/// let stack = VelocityFactorArray {
+///     factors: vec![VelocityFactor { behavior: "crosswalk".into(), ..Default::default() }],
+///     ..Default::default()
+/// };
+/// stream.take_velocity(stack, at(0));
+/// assert_eq!(stream.poll(at(0)).expect("due").velocity.factors.len(), 1);
+/// assert!(stream.poll(at(10)).is_none(), "nothing changed");
+/// // The stack stopped publishing: past the time to live, its factor goes.
+/// assert_eq!(stream.until_stale_ms(at(10)), INPUT_TTL_MS - 10 + 1);
+/// let lapsed = stream.poll(at(1_000 + 1)).expect("due");
+/// assert!(lapsed.velocity.factors.is_empty());
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct Stream {
+    /// The stack's newest velocity array, and the reading it came at (ns).
+    velocity: Option<(VelocityFactorArray, i64)>,
+    /// The stack's newest steering array, and the reading it came at (ns).
+    steering: Option<(SteeringFactorArray, i64)>,
+    /// The engine's newest publication.
+    scenes: Option<Publication>,
+    /// A side changed since the last publication.
+    changed: bool,
+    /// Whether the last publication used the stack's velocity and steering arrays.
+    used: (bool, bool),
+}
+
+/// [`INPUT_TTL_MS`] in nanoseconds.
+const INPUT_TTL_NS: i64 = 1_000_000 * INPUT_TTL_MS as i64;
+
+/// How old, in nanoseconds, something that came at `came` is `now` (none for a clock that went
+/// back).
+fn age_ns(came: i64, now: Now) -> i64 {
+    now.reading_ns.saturating_sub(came).max(0)
+}
+
+/// The array of `input`, if it is not older than [`INPUT_TTL_MS`].
+fn fresh<T>(input: Option<&(T, i64)>, now: Now) -> Option<&T> {
+    input
+        .filter(|(_, came)| age_ns(*came, now) <= INPUT_TTL_NS)
+        .map(|(array, _)| array)
+}
+
+impl Stream {
+    /// The stack's newest velocity array came, `now`.
+    pub fn take_velocity(&mut self, array: VelocityFactorArray, now: Now) {
+        self.velocity = Some((array, now.reading_ns));
+        self.changed = true;
+    }
+
+    /// The stack's newest steering array came, `now`.
+    pub fn take_steering(&mut self, array: SteeringFactorArray, now: Now) {
+        self.steering = Some((array, now.reading_ns));
+        self.changed = true;
+    }
+
+    /// The engine published (`Engine::poll_publication`): the scenes' factors and statuses.
+    pub fn take_scenes(&mut self, publication: Publication) {
+        self.scenes = Some(publication);
+        self.changed = true;
+    }
+
+    /// What to publish `now`, if anything: the stack's fresh arrays merged with the scenes'
+    /// ([`velocity`], [`steering`]), under the engine's revision, when a side changed or an
+    /// array the last publication used went stale. Nothing before the engine's first
+    /// publication.
+    pub fn poll(&mut self, now: Now) -> Option<Publication> {
+        let scenes = self.scenes.as_ref()?;
+        let velocity = fresh(self.velocity.as_ref(), now);
+        let steering = fresh(self.steering.as_ref(), now);
+        let lapsed = (self.used.0 && velocity.is_none()) || (self.used.1 && steering.is_none());
+        if !(self.changed || lapsed) {
+            return None;
+        }
+        let publication = Publication {
+            revision: scenes.revision,
+            velocity: self::velocity(velocity, &scenes.velocity),
+            steering: self::steering(steering, &scenes.steering),
+            scenes: scenes.scenes.clone(),
+        };
+        self.used = (velocity.is_some(), steering.is_some());
+        self.changed = false;
+        Some(publication)
+    }
+
+    /// How long from `now` until an array the last publication used goes stale, in
+    /// milliseconds, rounded up: the longest a host may wait before it polls again. `u64::MAX`
+    /// if it used none.
+    #[must_use]
+    pub fn until_stale_ms(&self, now: Now) -> u64 {
+        let until = |input: Option<i64>| {
+            input.map_or(u64::MAX, |came| {
+                let left = INPUT_TTL_NS.saturating_sub(age_ns(came, now)).max(0);
+                u64::try_from(left).unwrap_or(0).div_ceil(1_000_000) + 1
+            })
+        };
+        let velocity = self.velocity.as_ref().filter(|_| self.used.0);
+        let steering = self.steering.as_ref().filter(|_| self.used.1);
+        until(velocity.map(|(_, came)| *came)).min(until(steering.map(|(_, came)| *came)))
     }
 }
