@@ -345,6 +345,25 @@ fn a_publication_rate_is_taken_once_for_every_host() {
     }
 }
 
+/// Every host gives the engine its publication interval one way, in whole milliseconds and at
+/// least 1, whether when building it or later.
+#[test]
+fn a_publication_interval_is_given_one_way() {
+    use std::time::Duration;
+    for (every, ms) in [
+        (Duration::from_millis(250), 250),
+        (Duration::from_micros(1_500), 1),
+        (Duration::ZERO, 1),
+        (Duration::MAX, u64::MAX),
+    ] {
+        let options = Options::default().publishing_every(every);
+        assert_eq!(options.publish_every_ms, ms, "{every:?}");
+        let mut engine = engine();
+        engine.set_publish_every(every);
+        assert_eq!(engine.options().publish_every_ms, ms, "{every:?}");
+    }
+}
+
 /// Every host builds its engine from a settings file the same way: the built-in settings for
 /// none, and a file that cannot be read refused, named, before any engine exists.
 #[test]

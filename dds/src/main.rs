@@ -51,7 +51,7 @@ struct Args {
     stack: bool,
     /// In the stack mode, how long a module has to answer a call, in milliseconds.
     #[arg(long, default_value_t = cooperation_adapters::relay::DEADLINE_MS, requires = "stack",
-          value_parser = clap::value_parser!(u64).range(1..=60_000))]
+          value_parser = clap::value_parser!(u64).range(1..=cooperation_adapters::relay::MAX_DEADLINE_MS))]
     deadline_ms: u64,
 }
 

@@ -64,9 +64,9 @@ impl Options {
     pub fn engine(&self) -> engine::Options {
         engine::Options {
             scene_quota: self.scene_quota,
-            publish_every_ms: u64::try_from(self.publish_every.as_millis()).unwrap_or(u64::MAX),
             ..engine::Options::default()
         }
+        .publishing_every(self.publish_every)
     }
 }
 

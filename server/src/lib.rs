@@ -191,10 +191,9 @@ pub async fn serve_reloading(
             problem,
         ));
     }
-    let every_ms = u64::try_from(options.publish_every.as_millis()).unwrap_or(u64::MAX);
     // In the stack mode the relay's thread publishes, at the rate it was built with.
     if let Some(shared) = node.shared() {
-        shared.update(|engine| engine.set_publish_every_ms(every_ms));
+        shared.update(|engine| engine.set_publish_every(options.publish_every));
     }
     let mut publisher = tokio::spawn(publish(Arc::clone(&node)));
     let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));

@@ -76,7 +76,7 @@ struct Args {
     /// In the stack mode, how long a module has to answer a call, in milliseconds.
     #[cfg(feature = "dds")]
     #[arg(long, default_value_t = cooperation_adapters::relay::DEADLINE_MS, requires = "stack",
-          value_parser = clap::value_parser!(u64).range(1..=60_000))]
+          value_parser = clap::value_parser!(u64).range(1..=cooperation_adapters::relay::MAX_DEADLINE_MS))]
     deadline_ms: u64,
 }
 
@@ -115,7 +115,7 @@ async fn run(args: Args) -> Result<(), String> {
     #[cfg(feature = "dds")]
     let (node, dds) = dds::doors(&args, publish_every)?;
     #[cfg(not(feature = "dds"))]
-    let (node, dds) = (Arc::new(own_engine(&args)?), None::<Door>);
+    let (node, dds) = (Arc::new(own_engine(&args, publish_every)?), None::<Door>);
     // A module's credential may name the interfaces the engine binds.
     let interfaces = node.interfaces();
     let credentials = match &args.credentials {
@@ -188,14 +188,16 @@ async fn run(args: Args) -> Result<(), String> {
     served.and(stopped)
 }
 
-/// A node over an engine of its own, built from the settings.
-fn own_engine(args: &Args) -> Result<Node, String> {
+/// A node over an engine of its own, built from the settings, publishing every
+/// `publish_every` from the start (a DDS door serving it publishes at once).
+fn own_engine(args: &Args, publish_every: std::time::Duration) -> Result<Node, String> {
     Node::from_settings(
         args.settings.as_deref(),
         cooperation_adapters::engine::Options {
             scene_quota: args.scene_quota,
             ..cooperation_adapters::engine::Options::default()
-        },
+        }
+        .publishing_every(publish_every),
     )
     .map_err(|error| error.to_string())
 }
@@ -309,7 +311,7 @@ mod dds {
             let (node, door) = stack(args, publish_every)?;
             return Ok((node, Some(door)));
         }
-        let node = Arc::new(own_engine(args)?);
+        let node = Arc::new(own_engine(args, publish_every)?);
         let Some(domain) = args.dds_domain else {
             return Ok((node, None));
         };

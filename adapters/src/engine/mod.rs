@@ -79,6 +79,23 @@ pub struct Options {
     pub max_step_ms: u64,
 }
 
+impl Options {
+    /// These options, publishing every `every` (a host's [`publish_every`]): in whole
+    /// milliseconds, at least 1.
+    #[must_use]
+    pub fn publishing_every(self, every: std::time::Duration) -> Self {
+        Self {
+            publish_every_ms: interval_ms(every),
+            ..self
+        }
+    }
+}
+
+/// An interval in whole milliseconds, at least 1, as [`Options::publish_every_ms`] takes it.
+fn interval_ms(every: std::time::Duration) -> u64 {
+    u64::try_from(every.as_millis()).unwrap_or(u64::MAX).max(1)
+}
+
 impl Default for Options {
     fn default() -> Self {
         Self {
@@ -272,9 +289,9 @@ impl Engine {
     }
 
     /// Sets the interval of periodic publications ([`Options::publish_every_ms`]), from the next
-    /// publication on.
-    pub fn set_publish_every_ms(&mut self, every_ms: u64) {
-        self.options.publish_every_ms = every_ms.max(1);
+    /// publication on: `every` in whole milliseconds, at least 1.
+    pub fn set_publish_every(&mut self, every: std::time::Duration) {
+        self.options.publish_every_ms = interval_ms(every);
     }
 
     /// How many changes the core has had.

@@ -48,6 +48,9 @@ use pending::{Outcome, Part, Pending};
 /// milliseconds.
 pub const DEADLINE_MS: u64 = 1_000;
 
+/// The longest deadline a host may give modules, in milliseconds (a node's `--deadline-ms`).
+pub const MAX_DEADLINE_MS: u64 = 60_000;
+
 /// How much longer than the modules' deadline a host waits for the relay's answer to an
 /// operator's call, in milliseconds, before it answers the call itself with a refusal. The relay
 /// answers every call by the deadline ([`Relay::handle_timeout`]); this covers the relay's turn
