@@ -285,11 +285,10 @@ impl Stack {
             let now = self.clock.now();
             let until_timeout = Duration::from_millis(
                 self.relay
-                    .engine()
                     .until_timeout_ms(now)
                     .min(self.stream.until_stale_ms(now)),
             );
-            let busy = !(self.replies.is_empty() && self.relay.is_idle());
+            let busy = !self.replies.is_empty();
             wait(&mut self.poll, &mut events, busy, until_timeout)?;
             self.step();
         }

@@ -184,6 +184,24 @@ impl Relay {
         self.engine.poll_publication(now)
     }
 
+    /// Milliseconds from `now` until the host should call [`handle_timeout`](Self::handle_timeout)
+    /// at the latest: the engine's timeout ([`Engine::until_timeout_ms`]) or the nearest
+    /// deadline of a call to a module, whichever comes first (a deadline rounded up, so that it
+    /// has passed then).
+    #[must_use]
+    pub fn until_timeout_ms(&self, now: Now) -> u64 {
+        let deadline = self
+            .flights
+            .values()
+            .map(|(_, deadline)| *deadline)
+            .min()
+            .map_or(u64::MAX, |deadline| {
+                let left = deadline.saturating_sub(now.reading_ns).max(0);
+                u64::try_from(left).unwrap_or(0).div_ceil(1_000_000)
+            });
+        self.engine.until_timeout_ms(now).min(deadline)
+    }
+
     /// Whether nothing is on its way: no call queued or unanswered, no operator waiting.
     #[must_use]
     pub fn is_idle(&self) -> bool {

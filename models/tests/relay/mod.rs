@@ -87,6 +87,53 @@ fn coop_relay_success_1_a_module_that_does_not_answer_gets_a_timeout_naming_it()
     assert_eq!(bench.operator_decision(2), OperatorDecision::Undecided);
 }
 
+/// The relay says when a module's deadline passes, so that a host need not poll for it: its
+/// timeout is the engine's, or the nearest deadline of a call in flight if that comes first.
+#[test]
+fn coop_relay_success_1_the_relay_says_when_a_module_s_deadline_passes() {
+    let mut bench = Bench::new(true);
+    let options = Options {
+        publish_every_ms: 60_000,
+        max_step_ms: 60_000,
+        ..Options::default()
+    };
+    let config = Config::new(Rtc::standard().policies(true));
+    bench.relay = Relay::new(Engine::new(config, options).unwrap(), 300);
+    bench.register(CROSS, 2, true);
+    bench.settle();
+    bench.answering.insert(CROSS, false);
+    let now = bench.now();
+    assert!(bench.relay.poll_publication(now).is_some());
+    assert_eq!(
+        bench.relay.until_timeout_ms(now),
+        bench.relay.engine().until_timeout_ms(now),
+        "nothing in flight: the engine's"
+    );
+    assert!(bench.relay.engine().until_timeout_ms(now) > 300);
+    let request = command(id(2), OperatorDecision::Activate);
+    assert!(bench
+        .relay
+        .handle_operator(OperatorCall(50), &request, now)
+        .is_none());
+    bench.pump();
+    assert_eq!(
+        bench.relay.until_timeout_ms(now),
+        300,
+        "the call's deadline"
+    );
+    bench.clock_ms += 299;
+    let later = bench.now();
+    assert_eq!(bench.relay.until_timeout_ms(later), 1);
+    bench.relay.handle_timeout(later);
+    assert!(bench.relay.poll_answer().is_none(), "not yet");
+    bench.clock_ms += 1;
+    let deadline = bench.now();
+    assert_eq!(bench.relay.until_timeout_ms(deadline), 0);
+    bench.relay.handle_timeout(deadline);
+    let (_, response) = bench.relay.poll_answer().expect("answered at the deadline");
+    assert_eq!(status(&response).code, ResponseStatus::SERVICE_TIMEOUT);
+}
+
 /// A policy switch keeps the standing operator decisions on the module.
 #[test]
 fn coop_relay_policy_1() {
