@@ -345,6 +345,37 @@ fn a_publication_rate_is_taken_once_for_every_host() {
     }
 }
 
+/// The engine asks its host to tell the time when the oldest scene's time to live runs out, so
+/// that every host shows an expiry at once, whatever its publication interval.
+#[test]
+fn the_engine_asks_for_the_time_when_a_scene_expires() {
+    let mut engine = engine();
+    engine.set_publish_every(std::time::Duration::from_secs(3_600));
+    assert_eq!(engine.until_expiry_ms(at(0)), u64::MAX, "no live scene");
+    assert!(engine.handle(report(1, true), at(10)).reply.success());
+    assert!(engine.handle(report(2, true), at(40)).reply.success());
+    // Scene 1, reported at 10, is over the time to live at 10 + TTL_MS + 1.
+    assert_eq!(engine.until_expiry_ms(at(40)), TTL_MS + 11 - 40);
+    assert_eq!(
+        engine.until_expiry_ms(at(70)),
+        TTL_MS + 11 - 70,
+        "the host told nothing"
+    );
+    let _ = engine.poll_publication(at(70));
+    assert_eq!(engine.until_timeout_ms(at(70)), TTL_MS + 11 - 70);
+    let before = TTL_MS + 10;
+    assert!(engine
+        .advance(at(before))
+        .1
+        .is_some_and(|t| t.retired.is_empty()));
+    assert_eq!(engine.until_expiry_ms(at(before)), 1);
+    let (change, transition) = engine.advance(at(before + 1));
+    assert_eq!(transition.expect("time passed").retired, vec![id(1)]);
+    assert!(change.publish, "an expiry is published at once");
+    assert_eq!(engine.until_expiry_ms(at(before + 1)), 30, "scene 2's");
+    assert_eq!(engine.until_expiry_ms(at(before + 40)), 0, "overdue");
+}
+
 /// Every host gives the engine its publication interval one way, in whole milliseconds and at
 /// least 1, whether when building it or later.
 #[test]

@@ -88,18 +88,17 @@ class ExpiryBoundTest(unittest.TestCase):
     """No scene expires before its owner has left it unreported for the TTL
     ([COOP-TIME-EXPIRE.1]: a scene expires when its age is greater than the TTL).
 
-    The node brings the core's time up to now before each sync (`Node::sync`,
-    server/src/node.rs), so a scene synced late in the clock's 100 ms tick interval is not
-    charged the part of the interval before it was reported; without that it expired up to an
-    interval early.
+    The node brings the core's time up to now before each sync (`Engine::handle`,
+    adapters/src/engine/mod.rs), so a scene synced between two of the node's ticks is not
+    charged the time before it was reported; without that it expired up to an interval early.
 
-    Each trial syncs a new scene at a different point of the tick interval (a scene expires
-    at a tick, so the moment one is seen gone is just after a tick), then polls with empty
-    syncs, which report the interface's scenes without refreshing them, until it is gone.
-    From the sync's request to the answer that misses it is at least as long as the scene
-    went unreported, so that time must not be under the TTL. A TTL of 250 ms is between
-    multiples of the tick, so scenes synced in the later half of an interval show the early
-    expiry every time.
+    Each trial syncs a new scene at a different point of a 100 ms interval (the publication
+    interval, at which the node also tells the core the time), then polls with empty syncs,
+    which report the interface's scenes without refreshing them, until it is gone. From the
+    sync's request to the answer that misses it is at least as long as the scene went
+    unreported, so that time must not be under the TTL. A TTL of 250 ms is between multiples
+    of the interval, so a node that charged a scene the time before its report would show
+    the early expiry for scenes synced in the later half of an interval.
     """
 
     TTL_MS = 250

@@ -59,8 +59,6 @@ pub struct Options {
     /// The interval between periodic publications of the factors: the engine's
     /// ([`cooperation_adapters::engine::Options::publish_every_ms`]), set when the node is served.
     pub publish_every: Duration,
-    /// The interval between ticks of the core's clock.
-    pub tick_every: Duration,
     /// At most this many clients without a credential at once (a node with no credentials).
     /// When all are taken, one more takes the place of the oldest client of the address prefix
     /// that has the most, if that is more than its own prefix has; otherwise it is
@@ -83,7 +81,6 @@ impl Default for Options {
     fn default() -> Self {
         Self {
             publish_every: Duration::from_millis(cooperation_adapters::engine::PUBLISH_EVERY_MS),
-            tick_every: Duration::from_millis(100),
             max_clients: 256,
             credentials: None,
             admission: Admission::default(),
@@ -116,7 +113,6 @@ impl Options {
     pub fn problem(&self) -> Option<String> {
         let intervals = [
             ("the publication interval", self.publish_every),
-            ("the tick interval", self.tick_every),
             ("the write timeout", self.limits.write_timeout),
             ("the keepalive interval", self.limits.keepalive),
             ("the idle timeout", self.limits.idle),
@@ -196,7 +192,7 @@ pub async fn serve_reloading(
         shared.update(|engine| engine.set_publish_every(options.publish_every));
     }
     let mut publisher = tokio::spawn(publish(Arc::clone(&node)));
-    let mut ticker = tokio::spawn(tick(Arc::clone(&node), options.tick_every));
+    let mut ticker = tokio::spawn(tick(Arc::clone(&node)));
     let refusals = Arc::new(refusals::Refusals::default());
     let summaries = tokio::spawn(sum_up(
         Arc::clone(&refusals),
@@ -365,12 +361,13 @@ async fn publish(node: Arc<Node>) {
     }
 }
 
-/// Ticks the core from the node's monotonic clock: every `every`, and sooner when the engine's
-/// step limit would otherwise leave time uncounted (`[COOP-ENGINE-STEP.1]`).
-async fn tick(node: Arc<Node>, every: Duration) {
+/// Tells the core the time from the node's monotonic clock whenever the engine asks, as every
+/// host does ([`Node::until_timeout`]): a scene's time to live runs out, a publication is due,
+/// or the step limit would otherwise leave time uncounted (`[COOP-ENGINE-STEP.1]`).
+async fn tick(node: Arc<Node>) {
     loop {
         blocking(&node, Node::tick).await;
-        tokio::time::sleep(every.min(node.until_step_limit())).await;
+        tokio::time::sleep(node.until_timeout()).await;
     }
 }
 

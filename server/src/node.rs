@@ -351,13 +351,14 @@ impl Node {
         }
     }
 
-    /// How long until the engine wants the time told, at the latest (its step limit,
-    /// `[COOP-ENGINE-STEP.1]`).
+    /// How long until the engine wants the time told, at the latest: a publication is due, a
+    /// scene's time to live runs out, or its step limit is reached
+    /// ([`Engine::until_timeout_ms`], `[COOP-ENGINE-STEP.1]`), as every host asks it.
     /// Far off in the stack mode, where the relay's thread tells its engine the time.
     #[must_use]
-    pub fn until_step_limit(&self) -> std::time::Duration {
+    pub fn until_timeout(&self) -> std::time::Duration {
         let now = self.clock.now();
-        self.read(FAR, |engine| engine.until_step_limit_ms(now))
+        self.read(FAR, |engine| engine.until_timeout_ms(now))
     }
 
     /// How long until the engine's next periodic publication; far off in the stack mode, where

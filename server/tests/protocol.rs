@@ -392,10 +392,6 @@ async fn options_that_cannot_run_a_node_are_refused() {
             ..Options::default()
         },
         Options {
-            tick_every: zero,
-            ..Options::default()
-        },
-        Options {
             max_clients: 0,
             ..Options::default()
         },

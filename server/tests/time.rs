@@ -4,18 +4,18 @@
 use std::time::Duration;
 
 use crate::common::*;
-use cooperation_server::Options;
 use serde_json::json;
 
-/// An operator's command made after its scene's time to live ran out, before the node's next
-/// tick, is refused: the call tells the core the time first, and the scene has retired.
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_command_after_the_time_to_live_is_refused_between_ticks() {
+/// An operator's command made after its scene's time to live ran out, with no tick since, is
+/// refused: the call tells the core the time first, and the scene has retired. The node is not
+/// served, so nothing else tells it the time.
+#[test]
+fn a_command_after_the_time_to_live_is_refused_between_ticks() {
+    use cooperation_adapters::engine::{Endpoint, Reply};
+    use cooperation_adapters::wire::Service;
     let mut config = cooperation_adapters::settings::parse(SETTINGS).expect("the settings read");
     config.limits.ttl_ms = 200;
-    // No tick for an hour, and a step limit longer than that (`[COOP-ENGINE-STEP.1]`): only the
-    // calls tell the core the time.
-    let hour = Duration::from_secs(3_600);
+    // A step limit longer than the test (`[COOP-ENGINE-STEP.1]`): all the time counts.
     let node = cooperation_server::Node::with_options(
         config,
         cooperation_adapters::engine::Options {
@@ -24,36 +24,32 @@ async fn a_command_after_the_time_to_live_is_refused_between_ticks() {
         },
     )
     .expect("a configuration");
-    let served = serve_node(
-        std::sync::Arc::new(node),
-        Options {
-            tick_every: hour,
-            publish_every: hour,
-            ..Options::default()
-        },
-    )
-    .await;
-    let mut module = Client::connect(&served.url).await;
-    let mut operator = Client::connect(&served.url).await;
-    module
-        .sync("intersection", vec![status(1, false, 20.0)])
-        .await;
+    let call = |endpoint: Endpoint, args: serde_json::Value| {
+        node.handle(endpoint.read_json(args.to_string().as_bytes()))
+            .0
+    };
+    let sync = json!({"interface": "intersection", "statuses": [status(1, false, 20.0)]});
+    let Reply::Sync(synced) = call(Endpoint::Sync, sync) else {
+        panic!("a sync's reply")
+    };
+    assert!(synced.success, "{synced:?}");
+    let command = |decision: u8| {
+        call(
+            Endpoint::Ad(Service::SetCommands),
+            json!({"commands": [{"uuid": uuid(1), "cooperator": {"decision": decision}}]}),
+        )
+    };
     // Within the time to live: applied.
-    let response = operator.set_commands(&[(1, 2)]).await;
-    assert_eq!(
-        response["values"]["status"]["success"],
-        json!(true),
-        "{response}"
-    );
+    let Reply::Ad(response) = command(2) else {
+        panic!("an AD API reply")
+    };
+    assert!(response.status().success, "{response:?}");
     // Past it, and no tick since the scene's report: refused, the scene retired by expiry.
-    tokio::time::sleep(Duration::from_millis(400)).await;
-    let response = operator.set_commands(&[(1, 1)]).await;
-    let status = &response["values"]["status"];
-    assert_eq!(status["success"], json!(false), "{response}");
-    assert!(
-        status["message"]
-            .as_str()
-            .is_some_and(|m| m.contains("retired")),
-        "{response}"
-    );
+    std::thread::sleep(Duration::from_millis(400));
+    let Reply::Ad(response) = command(1) else {
+        panic!("an AD API reply")
+    };
+    let status = response.status();
+    assert!(!status.success, "{response:?}");
+    assert!(status.message.contains("retired"), "{response:?}");
 }

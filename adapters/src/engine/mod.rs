@@ -468,13 +468,36 @@ impl Engine {
             .saturating_sub(u64::try_from(since_ms).unwrap_or(u64::MAX))
     }
 
-    /// Milliseconds from `now` until the host should call again: a publication is due, or the
-    /// step from the reading the core was last told of reaches [`Options::max_step_ms`], after
-    /// which time the host's clock runs would no longer all count (`[COOP-ENGINE-STEP.1]`).
+    /// Milliseconds from `now` until the host should call again: a publication is due, a
+    /// scene's time to live runs out ([`until_expiry_ms`](Self::until_expiry_ms)), or the step
+    /// from the reading the core was last told of reaches [`Options::max_step_ms`], after which
+    /// time the host's clock runs would no longer all count (`[COOP-ENGINE-STEP.1]`).
     #[must_use]
     pub fn until_timeout_ms(&self, now: Now) -> u64 {
         self.until_publication_ms(now)
+            .min(self.until_expiry_ms(now))
             .min(self.until_step_limit_ms(now))
+    }
+
+    /// Milliseconds from `now` until the oldest live scene's time to live has run out, as the
+    /// core counts time (`[COOP-TIME-EXPIRE.1]`): telling the core the time then retires it, and
+    /// makes a publication due. `u64::MAX` with no live scene. One pass over the live scenes.
+    #[must_use]
+    pub fn until_expiry_ms(&self, now: Now) -> u64 {
+        let Some(oldest_ms) = self.state().scenes().map(|(_, scene)| scene.age_ms()).max() else {
+            return u64::MAX;
+        };
+        // A scene expires once its age is over the time to live.
+        let left_ms = self
+            .state()
+            .limits()
+            .ttl_ms
+            .saturating_sub(oldest_ms)
+            .saturating_add(1);
+        let since_ms = self.read_ms.map_or(0, |read_ms| {
+            u64::try_from(reading_ms(now).saturating_sub(read_ms)).unwrap_or(0)
+        });
+        left_ms.saturating_sub(since_ms)
     }
 
     /// Milliseconds from `now` until the step from the reading the core was last told of

@@ -403,7 +403,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let address = listener.local_addr()?;
     let options = Options {
         publish_every: Duration::from_secs(3_600),
-        tick_every: Duration::from_secs(3_600),
         max_clients: 512,
         // Every client is on loopback, one address.
         admission: cooperation_server::Admission {
