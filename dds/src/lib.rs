@@ -26,3 +26,30 @@ pub mod stack;
 
 pub use node::{Node, Options};
 pub use stack::{Door, DoorCall, Stack};
+
+/// The highest DDS domain a ROS 2 node may join: in DDS's mapping of domains to ports, a higher
+/// one needs ports past 65535.
+pub const MAX_DOMAIN: u16 = 232;
+
+/// The domain `text` names (a `ROS_DOMAIN_ID`), or why it names none.
+///
+/// ```
+/// assert_eq!(cooperation_dds::domain("42"), Ok(42));
+/// assert_eq!(cooperation_dds::domain("232"), Ok(232));
+/// assert_eq!(
+///     cooperation_dds::domain("233"),
+///     Err(r#""233" is not a DDS domain: give one from 0 to 232"#.to_owned())
+/// );
+/// assert!(cooperation_dds::domain("-1").is_err());
+/// assert!(cooperation_dds::domain("seven").is_err());
+/// ```
+///
+/// # Errors
+/// A text that is not a number from 0 to [`MAX_DOMAIN`], saying so.
+pub fn domain(text: &str) -> Result<u16, String> {
+    text.trim()
+        .parse::<u16>()
+        .ok()
+        .filter(|domain| *domain <= MAX_DOMAIN)
+        .ok_or_else(|| format!("{text:?} is not a DDS domain: give one from 0 to {MAX_DOMAIN}"))
+}

@@ -19,7 +19,7 @@ use cooperation_dds::{Node, Options, Stack};
 #[command(version)]
 struct Args {
     /// The DDS domain (by default ROS_DOMAIN_ID, or 0).
-    #[arg(long, env = "ROS_DOMAIN_ID", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=232))]
+    #[arg(long, env = "ROS_DOMAIN_ID", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=i64::from(cooperation_dds::MAX_DOMAIN)))]
     domain: u16,
     /// A local address DDS may use; repeat for more (by default every interface).
     #[arg(long = "interface", value_name = "ADDRESS")]

@@ -59,7 +59,8 @@ struct Args {
     /// Serve the same core over DDS too, as `cooperation-dds` does, on this ROS 2 domain: an
     /// operator's panel and ROS 2 clients then see and change the same scenes.
     #[cfg(feature = "dds")]
-    #[arg(long, value_name = "ID")]
+    #[arg(long, value_name = "ID",
+          value_parser = clap::value_parser!(u16).range(0..=i64::from(cooperation_dds::MAX_DOMAIN)))]
     dds_domain: Option<u16>,
     /// With `--dds-domain` or `--stack`: a local address DDS may use; repeat for more (all by
     /// default).
@@ -334,9 +335,8 @@ mod dds {
         let domain = match args.dds_domain {
             Some(domain) => domain,
             None => match std::env::var("ROS_DOMAIN_ID") {
-                Ok(text) => text
-                    .parse()
-                    .map_err(|error| format!("ROS_DOMAIN_ID={text}: {error}"))?,
+                Ok(text) => cooperation_dds::domain(&text)
+                    .map_err(|error| format!("ROS_DOMAIN_ID: {error}"))?,
                 Err(_) => 0,
             },
         };
