@@ -32,7 +32,7 @@ struct Args {
     #[arg(long, default_value_t = cooperation_adapters::engine::PUBLICATION_RATE_HZ)]
     rate: f64,
     /// At most this many clients at once, when the node has no credentials.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = cooperation_server::Options::default().max_clients)]
     max_clients: usize,
     /// The credentials file: one operator or planning module a line, with its token; a client
     /// must present one (docs/server.md, "Who may connect"). Read again on SIGHUP: a credential
