@@ -268,8 +268,9 @@ impl Stream {
     }
 
     /// How long from `now` until an array the last publication used goes stale, in
-    /// milliseconds, rounded up: the longest a host may wait before it polls again. `u64::MAX`
-    /// if it used none.
+    /// milliseconds: the time left of [`INPUT_TTL_MS`] rounded up, and one more (an array is
+    /// stale once older than that). The longest a host may wait before it polls again;
+    /// `u64::MAX` if the last publication used none.
     #[must_use]
     pub fn until_stale_ms(&self, now: Now) -> u64 {
         let until = |input: Option<i64>| {
