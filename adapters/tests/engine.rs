@@ -420,3 +420,41 @@ fn every_host_builds_its_engine_from_settings_one_way() {
         "{message}"
     );
 }
+
+/// `[COOP-ENGINE-TIME.1]` for a planner in the same process (`Engine::call_at`): the core is told
+/// the call's time before the call, in the same step, so a report made after its scene's time to
+/// live passed finds the scene retired, and the call says which scenes aged out first.
+#[test]
+fn coop_engine_time_1_a_call_in_process_is_made_at_its_own_time() {
+    let mut engine = engine();
+    let update = |host: &mut cooperation_adapters::Host, n: u128| {
+        let report = rtc::StatusReport::new(id(n), true, cooperation::Phase::Waiting, 1.0, 2.0);
+        host.interface("intersection")?
+            .update_cooperate_status(&report)
+            .map(drop)
+    };
+    let (first, change, ticked) = engine.call_at(at(10), |host| update(host, 1));
+    assert!(first.is_ok(), "{first:?}");
+    assert!(change.publish, "a new scene is shown");
+    assert!(ticked.is_some_and(|t| t.retired.is_empty()), "time passed");
+    let revision = engine.revision();
+
+    // Past the first scene's time to live: it ages out before the second report is made.
+    let (second, change, ticked) = engine.call_at(at(11 + TTL_MS), |host| update(host, 2));
+    assert!(second.is_ok(), "{second:?}");
+    assert_eq!(ticked.map(|t| t.retired), Some(vec![id(1)]));
+    assert_eq!(
+        change.revision,
+        Some(revision + 1),
+        "one step, one revision"
+    );
+    let late = engine.call_at(at(11 + TTL_MS), |host| update(host, 1)).0;
+    assert!(late.is_err(), "a retired scene is never registered again");
+
+    // No time passing and a refused call: no change.
+    let (refused, change, ticked) =
+        engine.call_at(at(11 + TTL_MS), |host| host.interface("no such").map(drop));
+    assert!(refused.is_err());
+    assert!(ticked.is_none());
+    assert_eq!(change.revision, None);
+}

@@ -81,20 +81,25 @@ uint8_t InterfaceCore::module_type() const
   return bound_.ok ? b::module_type(*core_->core, name_) : 0;
 }
 
-Result InterfaceCore::update(
-  const Uuid & uuid, bool safe, uint8_t state, double start_distance, double finish_distance,
-  bool requested, const std::optional<std::string> & sequence)
+Told InterfaceCore::told(Stamp now, const Result & refusal)
+{
+  return Told{refusal, b::advance(*core_->core, now)};
+}
+
+Told InterfaceCore::update(
+  Stamp now, const Uuid & uuid, bool safe, uint8_t state, double start_distance,
+  double finish_distance, bool requested, const std::optional<std::string> & sequence)
 {
   if (!bound_.ok) {
-    return bound_;
+    return told(now, bound_);
   }
   std::string why;
   const auto stated = sequence ? utf8(*sequence, why) : std::optional<rust::String>{};
   if (sequence && !stated) {
-    return refused("the sequence is not UTF-8: " + why);
+    return told(now, refused("the sequence is not UTF-8: " + why));
   }
   return b::update(
-    *core_->core, name_, uuid, safe, state, start_distance, finish_distance, requested,
+    *core_->core, now, name_, uuid, safe, state, start_distance, finish_distance, requested,
     stated.has_value(), stated ? rust::Str(*stated) : rust::Str());
 }
 
@@ -160,24 +165,25 @@ bool InterfaceCore::auto_mode_status() const
   return bound_.ok && b::auto_mode_status(*core_->core, name_);
 }
 
-Answered InterfaceCore::cooperate_commands(const std::vector<CommandIn> & commands)
+Answered InterfaceCore::cooperate_commands(Stamp now, const std::vector<CommandIn> & commands)
 {
   std::string why;
   if (!utf8(name_, why)) {
     // A name the bridge cannot carry reaches no adapter: each command is refused, as the
     // adapter refuses a batch it cannot route.
-    Answered answered{bound_, {}};
+    auto refusal = told(now, bound_);
+    Answered answered{refusal.outcome, {}, std::move(refusal.expired)};
     for (const auto & command : commands) {
       answered.responses.push_back(CommandOut{command.uuid, command.module, false});
     }
     return answered;
   }
   return b::cooperate_commands(
-    *core_->core, name_, rust::Slice<const CommandIn>(commands.data(), commands.size()));
+    *core_->core, now, name_, rust::Slice<const CommandIn>(commands.data(), commands.size()));
 }
 
-Result InterfaceCore::auto_mode(bool enable)
+Told InterfaceCore::auto_mode(Stamp now, bool enable)
 {
-  return bound_.ok ? b::auto_mode(*core_->core, name_, enable) : bound_;
+  return bound_.ok ? b::auto_mode(*core_->core, now, name_, enable) : told(now, bound_);
 }
 }  // namespace cooperation::rtc

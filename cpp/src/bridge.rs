@@ -37,6 +37,16 @@ pub mod ffi {
         warning: String,
     }
 
+    /// What a call made at the node's time did, and the scenes that expired by that time, before
+    /// the call (the core is told the time and the call is made in one step, under one lock).
+    #[derive(Clone, PartialEq, Eq, Debug)]
+    struct Told {
+        /// What the call did.
+        outcome: Outcome,
+        /// The scenes that expired, for the log.
+        expired: Vec<Uuid>,
+    }
+
     /// A yes-or-no answer that may have none: `known` is false where the adapter answers
     /// `None` (`[COOP-DEV-UNKNOWN-QUERY.1]`).
     #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -102,6 +112,8 @@ pub mod ffi {
         outcome: Outcome,
         /// The response's entries, as the adapter wrote them.
         responses: Vec<CommandOut>,
+        /// The scenes that expired by the call's time, before it, for the log.
+        expired: Vec<Uuid>,
     }
 
     /// One call's cost in the benchmark's Rust baseline.
@@ -128,9 +140,11 @@ pub mod ffi {
         fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome;
         /// The module type the interface's statuses carry (0, `NONE`, if it is not bound).
         fn module_type(core: &Core, name: &str) -> u8;
-        /// `updateCooperateStatus`; `sequence` is stated when `stated` is true.
+        /// `updateCooperateStatus` made at the node clock's `now` (the core is told it first);
+        /// `sequence` is stated when `stated` is true.
         fn update(
             core: &Core,
+            now: Stamp,
             name: &str,
             uuid: &Uuid,
             safe: bool,
@@ -140,7 +154,7 @@ pub mod ffi {
             requested: bool,
             stated: bool,
             sequence: &str,
-        ) -> Outcome;
+        ) -> Told;
         /// `removeCooperateStatus`.
         fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome;
         /// `clearCooperateStatus`.
@@ -163,10 +177,17 @@ pub mod ffi {
         fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status>;
         /// The interface's auto-mode status.
         fn auto_mode_status(core: &Core, name: &str) -> bool;
-        /// The interface's `CooperateCommands` service: the adapter's response, entry for entry.
-        fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Answered;
-        /// The interface's `AutoMode` service.
-        fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome;
+        /// The interface's `CooperateCommands` service, called at the node clock's `now` (the
+        /// core is told it first): the adapter's response, entry for entry.
+        fn cooperate_commands(
+            core: &Core,
+            now: Stamp,
+            name: &str,
+            commands: &[CommandIn],
+        ) -> Answered;
+        /// The interface's `AutoMode` service, called at the node clock's `now` (the core is
+        /// told it first).
+        fn auto_mode(core: &Core, now: Stamp, name: &str, enable: bool) -> Told;
 
         /// The benchmark's Rust baseline: the same calls as the C++ class makes, through
         /// `cooperation_adapters` directly, with `scenes` live scenes, `rounds` times each.

@@ -1,7 +1,7 @@
 //! The bridge's functions: each is one call of `cooperation_adapters` on a node's [`Core`], its
 //! arguments converted in and its answer converted out.
 
-use cooperation::{SceneId, Sequence};
+use cooperation::{SceneId, Sequence, Transition};
 use cooperation_adapters::engine::{self, Engine, Now};
 use cooperation_adapters::rtc::{
     self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, CooperateCommandsResponse,
@@ -10,7 +10,7 @@ use cooperation_adapters::rtc::{
 use cooperation_adapters::{Host, Shared, Time};
 
 use crate::bridge::ffi::{
-    self, Answered, CommandIn, CommandOut, Flag, Outcome, Stamp, Status, Uuid,
+    self, Answered, CommandIn, CommandOut, Flag, Outcome, Stamp, Status, Told, Uuid,
 };
 
 /// One node's core: the service engine (the state, the RTC interfaces' routing and the clock
@@ -54,6 +54,20 @@ impl Core {
             let answer = change(engine);
             ffi::lock_releasing(address);
             answer
+        })
+    }
+
+    /// Makes `call` at the node clock's `now` ([`Engine::call_at`]: the core is told the time
+    /// first, `[COOP-ENGINE-TIME.1]`), in one step under the core's lock: the call's result, and
+    /// the scenes that expired before it.
+    fn call_at<T, E>(
+        &self,
+        now: Stamp,
+        call: impl FnOnce(&mut Host) -> Result<T, E>,
+    ) -> (Result<T, E>, Vec<Uuid>) {
+        self.change(|engine| {
+            let (result, _, ticked) = engine.call_at(Now::of_stamp(time(now)), call);
+            (result, expired(ticked))
         })
     }
 
@@ -105,6 +119,21 @@ const fn time(stamp: Stamp) -> Time {
     Time::new(stamp.sec, stamp.nanosec)
 }
 
+/// The scenes that aged out in `ticked`, if time passed.
+fn expired(ticked: Option<Transition>) -> Vec<Uuid> {
+    ticked.map_or_else(Vec::new, |transition| {
+        transition.retired.into_iter().map(uuid).collect()
+    })
+}
+
+/// What a call made at the node's time did, and the scenes that expired before it.
+fn told<T>((result, expired): (Result<T, RtcError>, Vec<Uuid>)) -> Told {
+    Told {
+        outcome: outcome(result),
+        expired,
+    }
+}
+
 pub(crate) fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome {
     core.change(|engine| {
         outcome(
@@ -146,6 +175,7 @@ const fn metres(distance: f64) -> f32 {
 #[allow(clippy::too_many_arguments)] // Upstream's arguments, and the sequence.
 pub(crate) fn update(
     core: &Core,
+    now: Stamp,
     name: &str,
     uuid: &Uuid,
     safe: bool,
@@ -155,7 +185,7 @@ pub(crate) fn update(
     requested: bool,
     stated: bool,
     sequence: &str,
-) -> Outcome {
+) -> Told {
     let report = rtc::Lifecycle::new(state)
         .phase()
         .map_err(|e| RtcError::from(e.within("state")))
@@ -173,27 +203,25 @@ pub(crate) fn update(
         (Ok(report), true) => match Sequence::named(sequence) {
             Ok(sequence) => Ok(report.in_sequence(sequence)),
             Err(problem) => {
-                return Outcome {
-                    ok: false,
-                    warning: format!("sequence {sequence:?}: {problem}"),
-                }
+                // Refused here, and the core is still told the time, as for any report.
+                return Told {
+                    outcome: Outcome {
+                        ok: false,
+                        warning: format!("sequence {sequence:?}: {problem}"),
+                    },
+                    expired: advance(core, now),
+                };
             }
         },
         (report, _) => report,
     };
-    core.change(|engine| {
-        outcome(
-            engine
-                .call(|host| {
-                    report.and_then(|report| {
-                        host.interface(name)?
-                            .update_cooperate_status(&report)
-                            .map(drop)
-                    })
-                })
-                .0,
-        )
-    })
+    told(core.call_at(now, |host| {
+        report.and_then(|report| {
+            host.interface(name)?
+                .update_cooperate_status(&report)
+                .map(drop)
+        })
+    }))
 }
 
 pub(crate) fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome {
@@ -225,10 +253,7 @@ pub(crate) fn clear(core: &Core, name: &str) -> Outcome {
 pub(crate) fn advance(core: &Core, now: Stamp) -> Vec<Uuid> {
     // The engine takes the first reading as its time 0, and a reading before the last as no
     // time passing.
-    core.change(|engine| match engine.advance(Now::of_stamp(time(now))).1 {
-        Some(transition) => transition.retired.into_iter().map(uuid).collect(),
-        None => Vec::new(),
-    })
+    core.change(|engine| expired(engine.advance(Now::of_stamp(time(now))).1))
 }
 
 fn view<R>(core: &Core, name: &str, query: impl FnOnce(&rtc::View<'_>) -> R) -> Option<R> {
@@ -300,7 +325,12 @@ pub(crate) fn auto_mode_status(core: &Core, name: &str) -> bool {
     view(core, name, |view| view.auto_mode_status().is_auto_mode).unwrap_or(false)
 }
 
-pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]) -> Answered {
+pub(crate) fn cooperate_commands(
+    core: &Core,
+    now: Stamp,
+    name: &str,
+    commands: &[CommandIn],
+) -> Answered {
     let request = CooperateCommandsRequest {
         stamp: Time::default(),
         commands: commands
@@ -315,14 +345,10 @@ pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]
             .collect(),
     };
     let mut response = None;
-    let result = core.change(|engine| {
-        engine
-            .call(|host| {
-                let reply = host.interface(name)?.cooperate_commands(&request);
-                response = Some(reply.response);
-                reply.result
-            })
-            .0
+    let (result, expired) = core.call_at(now, |host| {
+        let reply = host.interface(name)?.cooperate_commands(&request);
+        response = Some(reply.response);
+        reply.result
     });
     // The adapter's response; an interface that is not there refuses every command.
     let response =
@@ -342,21 +368,15 @@ pub(crate) fn cooperate_commands(core: &Core, name: &str, commands: &[CommandIn]
                 success: answer.success,
             })
             .collect(),
+        expired,
     }
 }
 
-pub(crate) fn auto_mode(core: &Core, name: &str, enable: bool) -> Outcome {
-    core.change(|engine| {
-        outcome(
-            engine
-                .call(|host| {
-                    host.interface(name).and_then(|mut interface| {
-                        interface.auto_mode(&AutoModeRequest { enable }).result
-                    })
-                })
-                .0,
-        )
-    })
+pub(crate) fn auto_mode(core: &Core, now: Stamp, name: &str, enable: bool) -> Told {
+    told(core.call_at(now, |host| {
+        host.interface(name)
+            .and_then(|mut interface| interface.auto_mode(&AutoModeRequest { enable }).result)
+    }))
 }
 
 #[cfg(test)]
@@ -373,6 +393,11 @@ mod tests {
         Stamp { sec, nanosec: 0 }
     }
 
+    /// A safe, waiting report of `id` through `name`, at `sec`.
+    fn report(core: &Core, sec: i32, name: &str, id: &Uuid) -> Told {
+        update(core, at(sec), name, id, true, 0, 1.0, 1.0, false, false, "")
+    }
+
     #[test]
     fn the_first_reading_is_time_zero_and_time_never_goes_back() {
         let core = Core::new(0).unwrap();
@@ -380,7 +405,7 @@ mod tests {
         // An epoch reading: had the core started at 0, every scene would expire at once.
         assert!(advance(&core, at(1_700_000_000)).is_empty());
         let id = scene(1);
-        assert!(update(&core, "crosswalk", &id, true, 0, 1.0, 1.0, false, false, "").ok);
+        assert!(report(&core, 1_700_000_000, "crosswalk", &id).outcome.ok);
         for second in 1..=10 {
             assert!(advance(&core, at(1_700_000_000 + second)).is_empty());
         }
@@ -396,7 +421,7 @@ mod tests {
         assert!(bind(&core, "crosswalk", true).ok);
         assert!(advance(&core, at(100)).is_empty());
         let id = scene(3);
-        assert!(update(&core, "crosswalk", &id, true, 0, 1.0, 1.0, false, false, "").ok);
+        assert!(report(&core, 100, "crosswalk", &id).outcome.ok);
         // A seek 20 s ahead, then 8 s of cycles: 9 s counted, within the time to live.
         assert!(advance(&core, at(120)).is_empty());
         for second in 121..=128 {
@@ -408,11 +433,47 @@ mod tests {
         assert_eq!(advance(&core, at(130)), vec![id]);
     }
 
+    /// `[COOP-ENGINE-TIME.1]`: a report, a command and an auto-mode switch are each made at
+    /// their own time, told in the same call, and each says which scenes expired first.
+    #[test]
+    fn each_call_is_made_at_its_own_time() {
+        let core = Core::new(0).unwrap();
+        assert!(bind(&core, "crosswalk", true).ok);
+        let (first, second) = (scene(4), scene(5));
+        assert_eq!(
+            report(&core, 0, "crosswalk", &first),
+            told((Ok(()), Vec::new()))
+        );
+        for now in 1..=10 {
+            assert!(report(&core, now, "crosswalk", &second).expired.is_empty());
+        }
+        // The first scene's time to live ran out: it expires before the report is made.
+        assert_eq!(report(&core, 11, "crosswalk", &second).expired, vec![first]);
+        assert!(
+            !report(&core, 11, "crosswalk", &first).outcome.ok,
+            "expired for good"
+        );
+        for now in 12..=21 {
+            assert!(auto_mode(&core, at(now), "crosswalk", false)
+                .expired
+                .is_empty());
+        }
+        let command = CommandIn {
+            uuid: second,
+            module: module_type(&core, "crosswalk"),
+            command: rtc::Command::ACTIVATE,
+        };
+        let late = cooperate_commands(&core, at(22), "crosswalk", &[command]);
+        assert_eq!(late.expired, vec![second]);
+        assert!(!late.outcome.ok, "{late:?}");
+        assert!(late.responses.iter().all(|entry| !entry.success));
+    }
+
     #[test]
     fn refusals_are_explained_and_change_nothing() {
         let core = Core::new(0).unwrap();
         let id = scene(2);
-        let unbound = update(&core, "TestRTC", &id, true, 0, 1.0, 1.0, false, false, "");
+        let unbound = report(&core, 0, "TestRTC", &id).outcome;
         assert!(
             !unbound.ok && unbound.warning.contains("TestRTC"),
             "{unbound:?}"
@@ -420,12 +481,29 @@ mod tests {
         assert!(!bind(&core, "TestRTC", true).ok);
         assert!(bind(&core, "static_obstacle_avoidance_left", true).ok);
         let name = "static_obstacle_avoidance_left";
-        let bad = update(&core, name, &id, true, 0, 1.0, 1.0, false, true, "a b");
+        // A report in `sequence`, its state `state`.
+        let stated = |state, sequence| {
+            update(
+                &core,
+                at(0),
+                name,
+                &id,
+                true,
+                state,
+                1.0,
+                1.0,
+                false,
+                true,
+                sequence,
+            )
+            .outcome
+        };
+        let bad = stated(0, "a b");
         assert!(
             !bad.ok && bad.warning.starts_with("sequence \"a b\""),
             "{bad:?}"
         );
-        let state = update(&core, name, &id, true, 9, 1.0, 1.0, false, true, "change");
+        let state = stated(9, "change");
         assert!(
             !state.ok && state.warning.contains("state.type is 9"),
             "{state:?}"
@@ -438,7 +516,7 @@ mod tests {
                 value: false
             }
         );
-        assert!(update(&core, name, &id, true, 0, 1.0, 1.0, false, true, "change").ok);
+        assert!(stated(0, "change").ok);
         assert_eq!(
             is_rtc_enabled(&core, name, &id),
             Flag {

@@ -10,6 +10,8 @@ use crate::calls::{self, Core};
 
 /// The interface the benchmark reports through.
 const NAME: &str = "intersection";
+/// The node's clock as the benchmark's C++ side reads it: standing still.
+const ZERO: Stamp = Stamp { sec: 0, nanosec: 0 };
 
 fn scene(index: usize) -> Uuid {
     let mut bytes = [0_u8; 16];
@@ -43,13 +45,16 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
     let scenes = scenes.max(1);
     let ids: Vec<Uuid> = (0..scenes).map(scene).collect();
     for uuid in &ids {
-        let _ = calls::update(&core, NAME, uuid, true, 0, 10.0, 10.0, false, false, "");
+        let _ = calls::update(
+            &core, ZERO, NAME, uuid, true, 0, 10.0, 10.0, false, false, "",
+        );
     }
     let at = |round: usize| ids.get(round % scenes).copied().unwrap_or(scene(0));
     vec![
         cost("updateCooperateStatus", rounds, |round| {
             black_box(calls::update(
                 &core,
+                ZERO,
                 NAME,
                 &at(round),
                 true,
@@ -85,13 +90,13 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
                 module: 0,
                 command: 1,
             };
-            black_box(calls::cooperate_commands(&core, NAME, &[command]));
+            black_box(calls::cooperate_commands(&core, ZERO, NAME, &[command]));
         }),
         cost("publishCooperateStatus", rounds.div_ceil(scenes), |_| {
-            black_box(calls::statuses(&core, NAME, Stamp { sec: 0, nanosec: 0 }));
+            black_box(calls::statuses(&core, NAME, ZERO));
         }),
         cost("removeExpiredCooperateStatus", rounds, |_| {
-            black_box(calls::advance(&core, Stamp { sec: 0, nanosec: 0 }));
+            black_box(calls::advance(&core, ZERO));
         }),
     ]
 }

@@ -161,6 +161,7 @@ void a_clock_that_went_back_still_ages_scenes()
 void a_command_is_made_at_the_clocks_now()
 {
   Node node("planner");
+  check::Log log(node);
   RTCInterface crosswalk(&node, "crosswalk", true);
   const UUID id = check::uuid(8);
   node.set_now(check::at(10));
@@ -182,6 +183,11 @@ void a_command_is_made_at_the_clocks_now()
     response && response->responses.size() == 1 && !response->responses[0].success,
     "a command after the scene's time to live is refused");
   CHECK(!crosswalk.isRegistered(id), "the scene expired by the command's time");
+  bool logged = false;
+  for (const auto & line : log.lines) {
+    logged = logged || line.second.find(" expired") != std::string::npos;
+  }
+  CHECK(logged, "the expiry the command's time brought is logged");
 }
 }  // namespace
 

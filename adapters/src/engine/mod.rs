@@ -411,6 +411,27 @@ impl Engine {
         (result, change)
     }
 
+    /// A call by a planner in the same process made at `now`: the core is told the time first
+    /// (`[COOP-ENGINE-TIME.1]`), as [`advance`](Self::advance) tells it, then `call` gets the
+    /// core with its routes, all in one step of the engine. The call's result, the change the
+    /// two made (one revision), and the transition if time passed (its `retired` are the scenes
+    /// that aged out before the call).
+    pub fn call_at<T, E>(
+        &mut self,
+        now: Now,
+        call: impl FnOnce(&mut Host) -> Result<T, E>,
+    ) -> (Result<T, E>, Change, Option<Transition>) {
+        let ticked = self.catch_up(now);
+        let result = call(&mut self.host);
+        let aged = ticked.as_ref().is_some_and(|t| !t.retired.is_empty());
+        let change = if result.is_ok() || ticked.is_some() {
+            self.count_change(result.is_ok() || aged)
+        } else {
+            Change::default()
+        };
+        (result, change, ticked)
+    }
+
     /// Whether a publication is due at `now` (`[COOP-ENGINE-PUBLISH.1]`): a change the streams
     /// show came since the last publication, or the periodic interval has run.
     #[must_use]

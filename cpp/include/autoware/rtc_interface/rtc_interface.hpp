@@ -247,7 +247,7 @@ public:
   /// default) expire, and are logged. Every interface of the node may call it each cycle; time
   /// passes once (`[COOP-DEV-EXPIRY.1]`), and a step longer than the engine's step limit (1 s:
   /// a seek, the first `/clock`, a stalled planner) counts the limit (`[COOP-ENGINE-STEP.1]`).
-  void removeExpiredCooperateStatus() { tell_time(); }
+  void removeExpiredCooperateStatus() { log_expired(core_.advance(now())); }
 
   /// Removes every live scene of this interface, all or none.
   void clearCooperateStatus()
@@ -295,7 +295,7 @@ public:
   /// Logs each live scene: uuid, command, safe, state.
   void print() const
   {
-    for (const auto & s : core_.statuses(detail::stamp_of(clock_->now()))) {
+    for (const auto & s : core_.statuses(now())) {
       detail::info(
         logger_, "uuid : " + detail::to_string(s.uuid) +
                                " command : " + detail::command_name(s.command) +
@@ -323,14 +323,14 @@ private:
   /// first, `[COOP-ENGINE-TIME.1]`), entry for entry; a refusal is logged.
   cooperation::rtc::Answered apply(const std::vector<CooperateCommand> & commands)
   {
-    tell_time();
     std::vector<cooperation::rtc::CommandIn> in;
     in.reserve(commands.size());
     for (const auto & command : commands) {
       in.push_back(
         cooperation::rtc::CommandIn{detail::id_of(command.uuid), command.module.type, command.command.type});
     }
-    auto answered = core_.cooperate_commands(in);
+    auto answered = core_.cooperate_commands(now(), in);
+    log_expired(answered.expired);
     if (!answered.outcome.ok) {
       detail::warn(
         logger_, core_.name() + ": commands refused: " + detail::why(answered.outcome));
@@ -338,11 +338,15 @@ private:
     return answered;
   }
 
-  /// Tells the node's core the node clock's now; logs the scenes that expired by then.
-  void tell_time()
+  /// The node clock's now, as the core is told it.
+  cooperation::rtc::Stamp now() const { return detail::stamp_of(clock_->now()); }
+
+  /// Logs the scenes the core said expired.
+  template <class Uuids>
+  void log_expired(const Uuids & expired) const
   {
-    for (const auto & expired : core_.advance(detail::stamp_of(clock_->now()))) {
-      detail::info(logger_, "uuid : " + detail::to_string(expired) + " expired");
+    for (const auto & uuid : expired) {
+      detail::info(logger_, "uuid : " + detail::to_string(uuid) + " expired");
     }
   }
 
@@ -360,10 +364,10 @@ private:
                                " override_rtc_auto_mode is not honoured: a scene follows its "
                                "module's policy [COOP-DEV-AUTO-MODE-KEY.1]");
     }
-    tell_time();
-    logged(
-      "update", uuid,
-      core_.update(bytes, safe, state, start_distance, finish_distance, requested, sequence));
+    const auto told =
+      core_.update(now(), bytes, safe, state, start_distance, finish_distance, requested, sequence);
+    log_expired(told.expired);
+    logged("update", uuid, told.outcome);
   }
 
   void logged(const char * what, const UUID & uuid, const cooperation::rtc::Result & result) const
@@ -382,6 +386,7 @@ private:
     // The adapter's response, entry for entry ([COOP-DEV-BATCH.1]: each says whether the batch
     // applied).
     const auto answered = apply(request->commands);
+    response->responses.reserve(answered.responses.size());
     for (const auto & entry : answered.responses) {
       CooperateResponse answer;
       answer.uuid = detail::uuid_of(entry.uuid);
@@ -395,11 +400,11 @@ private:
     const typename AutoMode::Request::SharedPtr request,
     const typename AutoMode::Response::SharedPtr response)
   {
-    tell_time();
-    const auto result = core_.auto_mode(request->enable);
-    response->success = result.ok;
-    if (!result.ok) {
-      detail::warn(logger_, core_.name() + ": auto mode refused: " + detail::why(result));
+    const auto told = core_.auto_mode(now(), request->enable);
+    log_expired(told.expired);
+    response->success = told.outcome.ok;
+    if (!told.outcome.ok) {
+      detail::warn(logger_, core_.name() + ": auto mode refused: " + detail::why(told.outcome));
     }
   }
 

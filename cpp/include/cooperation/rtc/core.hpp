@@ -30,8 +30,12 @@ using Status = ::cooperation::bridge::Status;
 using CommandIn = ::cooperation::bridge::CommandIn;
 /// One entry of a `CooperateCommands` response.
 using CommandOut = ::cooperation::bridge::CommandOut;
-/// A `CooperateCommands` call's outcome and the adapter's response entries.
+/// A `CooperateCommands` call's outcome, the adapter's response entries, and the scenes that
+/// expired before the call.
 using Answered = ::cooperation::bridge::Answered;
+/// What a call made at the node's time did (`outcome`), and the scenes that expired before it
+/// (`expired`).
+using Told = ::cooperation::bridge::Told;
 
 class NodeCore;
 
@@ -83,10 +87,13 @@ public:
   /// The module type its statuses carry (`Module::NONE` if it is not bound).
   uint8_t module_type() const;
 
-  /// `updateCooperateStatus`, the scene's sequence stated when `sequence` is given.
-  Result update(
-    const Uuid & uuid, bool safe, uint8_t state, double start_distance, double finish_distance,
-    bool requested, const std::optional<std::string> & sequence = std::nullopt);
+  /// `updateCooperateStatus` made at the node clock's `now`, the scene's sequence stated when
+  /// `sequence` is given. The core is told `now` first, in the same call
+  /// (`[COOP-ENGINE-TIME.1]`), refused or not.
+  Told update(
+    Stamp now, const Uuid & uuid, bool safe, uint8_t state, double start_distance,
+    double finish_distance, bool requested,
+    const std::optional<std::string> & sequence = std::nullopt);
   /// `removeCooperateStatus`.
   Result remove(const Uuid & uuid);
   /// `clearCooperateStatus`.
@@ -109,13 +116,18 @@ public:
   /// The interface's auto-mode status.
   bool auto_mode_status() const;
 
-  /// The interface's `CooperateCommands` service: the batch applies whole or not at all; the
-  /// response's entries are the adapter's (for a name that is not bound, each refused).
-  Answered cooperate_commands(const std::vector<CommandIn> & commands);
-  /// The interface's `AutoMode` service.
-  Result auto_mode(bool enable);
+  /// The interface's `CooperateCommands` service, called at the node clock's `now` (told first,
+  /// in the same call): the batch applies whole or not at all; the response's entries are the
+  /// adapter's (for a name that is not bound, each refused).
+  Answered cooperate_commands(Stamp now, const std::vector<CommandIn> & commands);
+  /// The interface's `AutoMode` service, called at the node clock's `now` (told first, in the
+  /// same call).
+  Told auto_mode(Stamp now, bool enable);
 
 private:
+  /// `refusal`, made at `now`: the core is still told the time.
+  Told told(Stamp now, const Result & refusal);
+
   std::shared_ptr<NodeCore> core_;
   std::string name_;
   Result bound_;
