@@ -3,26 +3,49 @@
 //! "incomplete" and a non-zero exit status, never as a process the system had to kill. The swarm
 //! simulator exits 1 on a violation, with a trace that replays.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// A fresh folder under the system's temporary one, removed with what is in it when dropped.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Self {
+        let folder = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&folder);
+        Self(folder)
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 /// Runs `cooperation-models check` with `args`, counterexamples under a fresh folder; gives the
-/// exit code, the standard output and the folder.
-fn check(name: &str, args: &[&str]) -> (Option<i32>, String, PathBuf) {
-    let out = std::env::temp_dir().join(format!("cooperation-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+/// exit code, the standard output and the folder (removed when it is dropped).
+fn check(name: &str, args: &[&str]) -> (Option<i32>, String, Scratch) {
+    let out = Scratch::new(&format!("cooperation-cli-{name}"));
     let output = Command::new(env!("CARGO_BIN_EXE_cooperation-models"))
         .arg("check")
         .args(args)
         .arg("--out")
-        .arg(&out)
+        .arg(&*out)
         .output()
         .expect("the checker runs");
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     (output.status.code(), stdout, out)
 }
 
-fn saved(dir: &PathBuf) -> usize {
+fn saved(dir: &Path) -> usize {
     std::fs::read_dir(dir).map_or(0, |entries| {
         entries
             .filter_map(Result::ok)
@@ -286,8 +309,7 @@ fn simulate_exits_one_on_a_violation_with_a_trace_that_replays() {
         "{stdout}"
     );
 
-    let out = std::env::temp_dir().join(format!("cooperation-swarm-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+    let out = Scratch::new("cooperation-swarm");
     let faulty = [
         "--seeds",
         "0..4",
@@ -303,7 +325,7 @@ fn simulate_exits_one_on_a_violation_with_a_trace_that_replays() {
         "{stdout}"
     );
     assert_eq!(saved(&out), 1);
-    let trace = std::fs::read_dir(&out)
+    let trace = std::fs::read_dir(&*out)
         .expect("saved")
         .filter_map(Result::ok)
         .map(|e| e.path())

@@ -2,7 +2,7 @@
 // planning module written with roslib in Node, Chromium, and the checks' helpers.
 
 import { spawn } from 'node:child_process';
-import { existsSync, mkdtempSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
@@ -103,7 +103,8 @@ export async function startServer(binary, credentials, args = []) {
   for (let attempt = 1; ; attempt++) {
     const port = await freePort();
     const output = [];
-    const file = path.join(mkdtempSync(path.join(os.tmpdir(), 'credentials-')), 'credentials');
+    const folder = mkdtempSync(path.join(os.tmpdir(), 'credentials-'));
+    const file = path.join(folder, 'credentials');
     writeFileSync(file, credentials, { mode: 0o600 });
     const child = spawn(binary, ['--listen', `127.0.0.1:${port}`, '--settings', SETTINGS, '--credentials', file, ...args], {
       stdio: ['ignore', 'pipe', 'pipe'],
@@ -113,7 +114,11 @@ export async function startServer(binary, credentials, args = []) {
       stream.on('data', (chunk) => output.push(...chunk.toString().split('\n').filter(Boolean)));
     }
     let exited = null;
-    child.once('exit', (code, signal) => { exited = signal || `exit code ${code}`; });
+    // The credentials file goes with the node that read it.
+    child.once('exit', (code, signal) => {
+      exited = signal || `exit code ${code}`;
+      rmSync(folder, { recursive: true, force: true });
+    });
     child.once('error', (error) => { exited = error.message; });
     const server = { child, port, output, stopped: () => exited };
     try {

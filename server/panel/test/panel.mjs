@@ -9,7 +9,7 @@
 // CHROMIUM (default /usr/bin/chromium), HEADED=1 to watch. `scale.mjs` tests the panel at 100
 // scenes and the messages of each way in.
 
-import { mkdirSync, mkdtempSync, writeFileSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
@@ -124,6 +124,7 @@ async function run(state) {
   await new Promise((resolve) => state.strangerServer.listen(0, '127.0.0.1', resolve));
   state.close.push(() => state.strangerServer.close());
   const strangerDir = mkdtempSync(path.join(os.tmpdir(), 'stranger-'));
+  state.close.push(() => rmSync(strangerDir, { recursive: true, force: true }));
   writeFileSync(path.join(strangerDir, 'stranger.html'), '<title>a file</title>');
   const stranger = await state.browser.newPage();
   for (const url of [`http://127.0.0.1:${state.strangerServer.address().port}/`, `file://${strangerDir}/stranger.html`]) {

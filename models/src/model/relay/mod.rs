@@ -517,7 +517,14 @@ impl Model for RelayModel {
                     ) => OperatorDecision::Deactivate,
                     _ => decision,
                 };
-                let code = wire::CooperationDecision::of(sent).decision;
+                // The AD API's codes, written here from the message definition
+                // (`CooperationDecision.msg`), not through the adapters' conversion under check.
+                let code = match sent {
+                    OperatorDecision::Deactivate => 1,
+                    OperatorDecision::Activate => 2,
+                    OperatorDecision::Autonomous => 3,
+                    OperatorDecision::Undecided => 4,
+                };
                 let json = format!(
                     r#"{{"commands": [{{"uuid": {{"uuid": {:?}}}, "cooperator": {{"decision": {code}}}}}]}}"#,
                     id.to_bytes()
