@@ -345,10 +345,11 @@ fn a_publication_rate_is_taken_once_for_every_host() {
     }
 }
 
-/// The engine asks its host to tell the time when the oldest scene's time to live runs out, so
-/// that every host shows an expiry at once, whatever its publication interval.
+/// `[COOP-ENGINE-WAKE.1]`: the engine asks its host to tell the time when the oldest scene's
+/// time to live runs out, so that every host shows an expiry at once, whatever its publication
+/// interval; otherwise at the next periodic publication or the step limit, whichever is first.
 #[test]
-fn the_engine_asks_for_the_time_when_a_scene_expires() {
+fn coop_engine_wake_1() {
     let mut engine = engine();
     engine.set_publish_every(std::time::Duration::from_secs(3_600));
     assert_eq!(engine.until_expiry_ms(at(0)), u64::MAX, "no live scene");
@@ -374,6 +375,17 @@ fn the_engine_asks_for_the_time_when_a_scene_expires() {
     assert!(change.publish, "an expiry is published at once");
     assert_eq!(engine.until_expiry_ms(at(before + 1)), 30, "scene 2's");
     assert_eq!(engine.until_expiry_ms(at(before + 40)), 0, "overdue");
+
+    // No live scene: the periodic publication, or the step limit when that comes first.
+    let mut engine = self::engine();
+    engine.set_publish_every(std::time::Duration::from_millis(300));
+    let _ = engine.poll_publication(at(0));
+    assert_eq!(engine.until_timeout_ms(at(100)), 200);
+    engine.set_publish_every(std::time::Duration::from_secs(3_600));
+    assert_eq!(
+        engine.until_timeout_ms(at(100)),
+        cooperation_adapters::engine::MAX_STEP_MS - 100
+    );
 }
 
 /// Every host gives the engine its publication interval one way, in whole milliseconds and at

@@ -92,6 +92,8 @@ fn each_property_fails_on_its_planted_fault() {
         (EngineFault::PolicyConstantsSwapped, engine::POLICIES),
         (EngineFault::PoliciesReversed, engine::POLICIES),
         (EngineFault::ScenesShowModuleDecision, engine::SCENES),
+        (EngineFault::ExpiryUnasked, engine::WAKE),
+        (EngineFault::ExpiryEarly, engine::WAKE),
     ] {
         let (failing, _) = failing(model().with_fault(fault).focus(property));
         assert_eq!(failing, vec![property], "{fault:?}");

@@ -489,10 +489,11 @@ impl Engine {
             .saturating_sub(u64::try_from(since_ms).unwrap_or(u64::MAX))
     }
 
-    /// Milliseconds from `now` until the host should call again: a publication is due, a
-    /// scene's time to live runs out ([`until_expiry_ms`](Self::until_expiry_ms)), or the step
-    /// from the reading the core was last told of reaches [`Options::max_step_ms`], after which
-    /// time the host's clock runs would no longer all count (`[COOP-ENGINE-STEP.1]`).
+    /// Milliseconds from `now` until the host should call again (`[COOP-ENGINE-WAKE.1]`): a
+    /// publication is due, a scene's time to live runs out
+    /// ([`until_expiry_ms`](Self::until_expiry_ms)), or the step from the reading the core was
+    /// last told of reaches [`Options::max_step_ms`], after which time the host's clock runs
+    /// would no longer all count (`[COOP-ENGINE-STEP.1]`).
     #[must_use]
     pub fn until_timeout_ms(&self, now: Now) -> u64 {
         self.until_publication_ms(now)

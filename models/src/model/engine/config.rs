@@ -46,11 +46,18 @@ pub enum EngineFault {
     /// the clock went back before it (the engine before `[COOP-ENGINE-PUBLISH.1]` said
     /// otherwise): with [`EngineBounds::rewinds`], the host is asked at that reading.
     BackHoldsPublications,
+    /// The engine asks for the time at the next periodic publication or the step limit, never
+    /// at a scene's expiry (the engine before `[COOP-ENGINE-WAKE.1]`): an expired scene is
+    /// shown until the next publication.
+    ExpiryUnasked,
+    /// The engine asks for the time a millisecond before a scene's time to live has passed,
+    /// when nothing else falls due: its host calls for nothing.
+    ExpiryEarly,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 14] = [
+    pub const ALL: [Self; 16] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -65,6 +72,8 @@ impl EngineFault {
         Self::ScenesShowModuleDecision,
         Self::BackStalls,
         Self::BackHoldsPublications,
+        Self::ExpiryUnasked,
+        Self::ExpiryEarly,
     ];
 }
 

@@ -5,8 +5,10 @@
 //! sync (a status or a removal), an operator's `set_commands` or `set_policies`, the host's
 //! timeout ([`Engine::handle_timeout`]) and its publication poll
 //! ([`Engine::poll_publication`]), each at the clock's reading; or the clock moves on by one
-//! millisecond with nothing told. Requests are the doors' own types, answered by the engine;
-//! unless an [`EngineFault`] is planted for a sensitivity test, nothing here decides an answer.
+//! millisecond with nothing told; or the host, having told the time, waits as long as the engine
+//! asks ([`Engine::until_timeout_ms`]) and tells it again. Requests are the doors' own types,
+//! answered by the engine; unless an [`EngineFault`] is planted for a sensitivity test, nothing
+//! here decides an answer.
 //!
 //! The properties ([`properties`]) are stated from the specification's time rules and the
 //! streams' promise, with an oracle of their own: the time each scene was last reported (a
@@ -17,11 +19,13 @@ mod answers;
 mod config;
 mod properties;
 mod step;
+mod wake;
 mod written;
 
 pub use config::{EngineBounds, EngineFault, JUMP_STEP_MS};
 pub use properties::{
-    properties, ANSWER, HINTED, LIFETIME, MESSAGES, PERIODIC, POLICIES, PUBLISH, SCENES, STEP, TIME,
+    properties, ANSWER, HINTED, LIFETIME, MESSAGES, PERIODIC, POLICIES, PUBLISH, SCENES, STEP,
+    TIME, WAKE,
 };
 pub use step::{content, now_at, EngineStep};
 pub use written::written;
@@ -78,6 +82,9 @@ pub enum EngineAction {
     Tick,
     /// The host polls for a publication and sends what it gets.
     Publish,
+    /// The host, having told the time, waits as long as the engine asks
+    /// ([`Engine::until_timeout_ms`]) and tells it the time again (its timeout).
+    Sleep,
     /// A module's sync reports the scene (waiting), safe or not, starting at the distance of
     /// this position of [`DISTANCES`] (with [`EngineBounds::geometry`]).
     Report(SceneId, bool, usize),
@@ -97,6 +104,9 @@ pub mod broken {
     pub const ANSWER: u8 = 2;
     /// A call changed what the streams show without asking for a publication.
     pub const UNHINTED: u8 = 4;
+    /// A host that waited as long as the engine asked told the time at another reading than
+    /// the earliest expiry, periodic publication or step limit.
+    pub const WAKE: u8 = 8;
 }
 
 /// The engine model.
@@ -386,6 +396,11 @@ impl Model for EngineModel {
             actions.push(EngineAction::Back);
         }
         actions.push(EngineAction::Tick);
+        if state.clock_ms == state.read_ms
+            && state.clock_ms.saturating_add(self.asked_wait(state)) <= self.bounds.horizon_ms
+        {
+            actions.push(EngineAction::Sleep);
+        }
         if !self.bounds.geometry && self.due(state) {
             actions.push(EngineAction::Publish);
         }
@@ -410,6 +425,13 @@ impl Model for EngineModel {
     fn next_state(&self, last: &Self::State, action: Self::Action) -> Option<Self::State> {
         let mut next = last.clone();
         let now = last.now();
+        if action == EngineAction::Sleep {
+            let wait = self.asked_wait(last);
+            if wait != self.due_in(last) {
+                next.broken |= broken::WAKE;
+            }
+            next.clock_ms = next.clock_ms.saturating_add(wait);
+        }
         if !matches!(
             action,
             EngineAction::Wait | EngineAction::Back | EngineAction::Publish
@@ -422,9 +444,9 @@ impl Model for EngineModel {
                 next.clock_ms = next.clock_ms.checked_sub(1)?;
                 next.went_back = true;
             }
-            EngineAction::Tick => {
+            EngineAction::Tick | EngineAction::Sleep => {
                 let before = next.engine.state().clone();
-                let at = self.reading(&next.engine, now);
+                let at = self.reading(&next.engine, next.now());
                 let mut change = next.engine.handle_timeout(at);
                 if self.fault == Some(EngineFault::ChangeUnhinted) {
                     change.publish = false;

@@ -37,6 +37,8 @@ pub const HINTED: &str = "COOP-ENGINE-PUBLISH.1: a call that changes what the st
 pub const PERIODIC: &str = "COOP-ENGINE-PUBLISH.1: a publication is due once the interval has passed on the clock since the last, or the clock reads earlier than it";
 /// `COOP-ENGINE-PUBLISH.1`'s property.
 pub const PUBLISH: &str = "COOP-ENGINE-PUBLISH.1: whenever no publication is due, the last one shows what the state shows";
+/// `COOP-ENGINE-WAKE.1`'s property.
+pub const WAKE: &str = "COOP-ENGINE-WAKE.1: a host that waits as long as the engine asks tells it the time at the earliest scene expiry, periodic publication or step limit";
 /// `COOP-ENGINE-ANSWER.1`'s property.
 pub const ANSWER: &str = "COOP-ENGINE-ANSWER.1: an operator's call is answered as the core's transition at the request's time answers it";
 
@@ -158,6 +160,7 @@ pub fn properties() -> Vec<Property<EngineModel>> {
         Property::always(PERIODIC, periodic_due),
         Property::always(HINTED, unbroken::<{ broken::UNHINTED }>),
         Property::always(ANSWER, unbroken::<{ broken::ANSWER }>),
+        Property::always(WAKE, unbroken::<{ broken::WAKE }>),
         Property::always(MESSAGES, messages_are_the_spec),
         Property::always(POLICIES, policies_are_the_spec),
         Property::always(SCENES, scenes_are_the_spec),
