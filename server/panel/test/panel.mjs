@@ -5,7 +5,7 @@
 // A planning module (roslib in Node) registers scenes through /cooperation/rtc/sync and keeps
 // them alive; the panel must show them waiting first, then nearest first, send an operator
 // decision the module then sees, switch a policy the node then reports, and show a refusal of
-// the node. The screenshot goes to $SCREENSHOT, or to a temporary directory. Environment:
+// the node. The screenshot goes to $SCREENSHOT, or to target/panel-test/. Environment:
 // CHROMIUM (default /usr/bin/chromium), HEADED=1 to watch. `scale.mjs` tests the panel at 100
 // scenes and the messages of each way in.
 
@@ -13,6 +13,7 @@ import { mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
+import { fileURLToPath } from 'node:url';
 
 import {
   ACTIVATE, button, cellIs, DEACTIVATE, Failure, formatted, launch, log, main, Module, OPTIONAL,
@@ -288,8 +289,8 @@ async function run(state) {
   module.checkCycle();
   if (pageErrors.length) throw new Failure(`the page reported errors: ${pageErrors.join('; ')}`);
 
-  const file = process.env.SCREENSHOT
-    || path.join(mkdtempSync(path.join(os.tmpdir(), 'operator-panel-')), 'operator-panel.png');
+  const file = process.env.SCREENSHOT || path.resolve(
+    path.dirname(fileURLToPath(import.meta.url)), '../../../target/panel-test/operator-panel.png');
   mkdirSync(path.dirname(path.resolve(file)), { recursive: true });
   await page.mouse.move(1, 1);
   await page.evaluate(() => scrollTo(0, 0));
