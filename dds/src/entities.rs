@@ -314,7 +314,7 @@ impl Replies {
     /// if it wrote any, yields the thread. A written sample is sent by the participant's own
     /// thread: yielding lets it send the replies before the caller builds and writes a
     /// publication, whose fragments it could otherwise send first when it found both waiting
-    /// (docs/performance.md, *The DDS node on the engine*).
+    /// (docs/performance-history.md, *The DDS node on the engine*).
     pub(crate) fn flush(&mut self, servers: &[Server]) {
         let now = Instant::now();
         let waiting = self.waiting.len();

@@ -19,7 +19,7 @@ pub fn page() -> String {
          tests assert: a change in the reachable state space is a diff there, and here. Every \
          other page links here instead of repeating a count, and `cargo xtask docs --check` \
          fails when this page is stale, when another page repeats a pinned count, or when the \
-         reach table of `docs/performance.md` measured another count for a pinned \
+         reach table of `docs/reach.md` measured another count for a pinned \
          configuration. Do not edit by hand.\n\n\
          *Unique* counts the distinct states (after symmetry reduction where it is on); \
          *generated* counts every successor computed, duplicates included (— where only the \

@@ -7,7 +7,7 @@
 //!   scenarios.
 //! - [`counts`]: `docs/counts.md`, every pinned state count, and the check that no other page
 //!   repeats one.
-//! - [`reach`]: the reach table of `docs/performance.md`, measured by running the checker, and
+//! - [`reach`]: the reach table of `docs/reach.md`, measured by running the checker, and
 //!   the check that it agrees with the pins.
 
 pub mod counts;

@@ -7,7 +7,7 @@
 //!                                     pinned count and that the reach table agrees with
 //!                                     the pins
 //! cargo xtask reach [--full] [--only BOUNDS]
-//!                                     measure the reach table of docs/performance.md
+//!                                     measure the reach table of docs/reach.md
 //! ```
 //!
 //! Exit status: 0 done (or current), 1 stale or a check failed, 2 bad usage.

@@ -1,6 +1,6 @@
 //! `cargo xtask reach`: how far the exhaustive check gets, configuration by configuration,
 //! with the checker's raw throughput on a trivial model beside it; the table of
-//! `docs/performance.md`, *Model-checking reach*.
+//! `docs/reach.md`.
 //!
 //! The checker is built in release, and each configuration runs as its own child process
 //! (`cooperation-models check … --summary`), so that its peak memory is its own.
@@ -12,7 +12,7 @@ use cooperation_models::check::pins;
 use cooperation_models::check::summary::{Summary, PREFIX};
 
 /// The page the table is in.
-pub const PAGE: &str = "docs/performance.md";
+pub const PAGE: &str = "docs/reach.md";
 
 /// One row of the table.
 struct Config {

@@ -4,7 +4,7 @@
 //! checked configuration reaches. The tests assert these values, so a change in the reachable
 //! state space is a one-line diff here to review; `cargo xtask docs` renders this table as
 //! `docs/counts.md`, which the rest of the documentation links to instead of repeating a
-//! number; and `cargo xtask docs --check` fails when the reach table of `docs/performance.md`
+//! number; and `cargo xtask docs --check` fails when the reach table of `docs/reach.md`
 //! measured another count for a pinned configuration, or a page repeats a pinned count.
 //!
 //! The counts are the models', not targets: if one moves, find out why before changing it
