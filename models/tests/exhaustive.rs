@@ -242,7 +242,7 @@ fn network_two_operators_two_scenes() {
 /// The network model with operator views carrying the library's whole statuses, decisions
 /// included, and owners that can abort: one operator, 2 scene identifiers; breadth first, the
 /// same with 1 and 2 threads. (Two operators with status views outgrow memory:
-/// docs/verification.md, *The network model*.)
+/// docs/models.md, *The network model*.)
 #[test]
 #[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn network_one_operator_two_scenes_status_views() {

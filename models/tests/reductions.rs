@@ -1,5 +1,5 @@
 //! Each reduction of the sequential model's search, cross-checked against the search without it
-//! where both can run (docs/verification.md, *Reductions*): the same verdict for every
+//! where both can run (docs/models.md, *Reductions*): the same verdict for every
 //! property, on the shipped code and on every injected fault, and the counts related exactly as
 //! the argument says.
 

@@ -191,7 +191,7 @@ pub fn run(
 /// property evaluated in every state. A stalled step (its core and history are its
 /// predecessor's) is evaluated for the rules' reachability only: every other property reads the
 /// core and the history, and was evaluated on the predecessor (the argument of
-/// `docs/verification.md`, *Reductions*).
+/// `docs/models.md`, *Reductions*).
 fn walk(
     model: &SequentialModel,
     properties: &[Property<SequentialModel>],

@@ -24,7 +24,7 @@ use crate::model::spec::rules::Snapshot;
 /// `merge_stalled` is set (the default), a stalled step is fingerprinted by its rule alone, so
 /// all the stalled steps of one rule are one state: the first one found witnesses the rule, and
 /// the others, which could only repeat what their predecessors showed, are not kept
-/// (`docs/verification.md`, *Reductions*).
+/// (`docs/models.md`, *Reductions*).
 #[derive(Clone, serde::Serialize)]
 pub struct Step {
     /// The library's state.
