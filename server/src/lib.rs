@@ -51,7 +51,7 @@ pub use connection::Limits;
 pub use front::Admission;
 pub use guesses::GuessLimits;
 pub use keyring::Reloaded;
-pub use node::{Node, Topic};
+pub use node::{Node, Topic, MAX_WAITING_CALLS};
 
 /// How the node runs.
 #[derive(Clone, PartialEq, Eq, Debug)]

@@ -101,6 +101,23 @@ struct Relayed {
     wait: std::time::Duration,
     /// The names of the relay's RTC interfaces.
     interfaces: Vec<String>,
+    /// Calls waiting for their reply now, all connections together.
+    waiting: std::sync::atomic::AtomicUsize,
+}
+
+/// The most calls the stack mode's door holds waiting for the relay at once, all connections
+/// together. Each holds a thread of the runtime's blocking pool (512 threads) until its reply
+/// comes or its wait runs out, so one more is refused at once, saying so, rather than taking a
+/// thread the node's other work needs.
+pub const MAX_WAITING_CALLS: usize = 128;
+
+/// One call counted among [`Relayed::waiting`] while it lives.
+struct Waiting<'a>(&'a std::sync::atomic::AtomicUsize);
+
+impl Drop for Waiting<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
 }
 
 impl core::fmt::Debug for Core {
@@ -233,6 +250,7 @@ impl Node {
             wake,
             wait,
             interfaces,
+            waiting: std::sync::atomic::AtomicUsize::new(0),
         };
         Self::over(Core::Relayed(relayed), Clock::start())
     }
@@ -450,6 +468,17 @@ impl Relayed {
     /// `request` answered by the relay's thread.
     fn call(&self, request: Request) -> Reply {
         let endpoint = request.endpoint();
+        let before = self.waiting.fetch_add(1, Ordering::SeqCst);
+        let _waiting = Waiting(&self.waiting);
+        if before >= MAX_WAITING_CALLS {
+            return Reply::refusal(
+                endpoint,
+                format!(
+                    "the stack mode's relay has {MAX_WAITING_CALLS} calls waiting, the most the \
+                     node holds: call again"
+                ),
+            );
+        }
         let (to, from) = std::sync::mpsc::channel();
         if self.calls.send((request, to)).is_err() {
             return Reply::refusal(endpoint, "the stack mode's relay has stopped".to_owned());

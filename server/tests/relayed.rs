@@ -225,3 +225,89 @@ fn the_stack_door_waits_the_deadline_and_the_slack_the_docs_state() {
     assert_eq!(answer_wait_ms(250), 2_250);
     assert_eq!(answer_wait_ms(u64::MAX), u64::MAX, "no overflow");
 }
+
+/// At most `MAX_WAITING_CALLS` calls wait for the relay at once, all connections together (each
+/// holds a thread of the blocking pool): one more is refused at once, saying so, and the place
+/// frees as soon as a waiting call has its reply.
+#[test]
+fn calls_waiting_for_the_relay_are_bounded() {
+    use cooperation_adapters::wire;
+    use cooperation_server::MAX_WAITING_CALLS;
+    let (node, calls, _) = relayed(Duration::from_secs(60));
+    let ask = |node: &Arc<Node>| {
+        let node = Arc::clone(node);
+        std::thread::spawn(move || {
+            let request = Request::Ad(wire::Request::GetPolicies(Default::default()));
+            node.handle(request).0
+        })
+    };
+    let mut waiting: Vec<_> = (0..MAX_WAITING_CALLS).map(|_| ask(&node)).collect();
+    let held: Vec<_> = (0..MAX_WAITING_CALLS)
+        .map(|_| {
+            calls
+                .recv_timeout(WAIT)
+                .expect("each call reaches the owner")
+        })
+        .collect();
+
+    let started = std::time::Instant::now();
+    let refused = ask(&node).join().expect("answered");
+    assert!(
+        started.elapsed() < Duration::from_secs(10),
+        "refused at once"
+    );
+    let Reply::Ad(response) = &refused else {
+        panic!("{refused:?}")
+    };
+    assert!(!response.status().success);
+    assert_eq!(
+        response.status().message,
+        format!(
+            "the stack mode's relay has {MAX_WAITING_CALLS} calls waiting, the most the node \
+             holds: call again"
+        )
+    );
+    assert!(
+        calls.try_recv().is_err(),
+        "the refused call never reached the owner"
+    );
+    let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/server.md"))
+        .expect("docs/server.md");
+    let stated = format!(
+        "At most {MAX_WAITING_CALLS} calls wait for the relay at once, all connections together"
+    );
+    assert!(docs.contains(&stated), "docs/server.md states: {stated}");
+
+    // One reply frees one place: the next call reaches the owner and waits.
+    let mut held = held.into_iter();
+    let (request, reply) = held.next().expect("one");
+    reply
+        .send(Reply::refusal(request.endpoint(), "answered".to_owned()))
+        .expect("the caller waits");
+    // The call that had it returns (whichever of the threads made it).
+    let deadline = std::time::Instant::now() + WAIT;
+    let answered = loop {
+        if let Some(done) = waiting
+            .iter()
+            .position(std::thread::JoinHandle::is_finished)
+        {
+            break waiting.swap_remove(done);
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the answered call returns"
+        );
+        std::thread::sleep(Duration::from_millis(1));
+    };
+    assert!(
+        !answered.join().expect("answered").success(),
+        "its reply came back"
+    );
+    let next = ask(&node);
+    let (request, reply) = calls.recv_timeout(WAIT).expect("a place was free");
+    reply
+        .send(Reply::refusal(request.endpoint(), "answered".to_owned()))
+        .expect("the caller waits");
+    assert!(!next.join().expect("answered").success());
+    drop(held);
+}
