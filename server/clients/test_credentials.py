@@ -15,8 +15,9 @@ MODULE = "roslibpy-module-0123456789abcdefgh"
 
 class CredentialsTest(unittest.TestCase):
     def setUp(self):
-        directory = tempfile.mkdtemp()
-        path = os.path.join(directory, "credentials")
+        directory = tempfile.TemporaryDirectory(prefix="credentials-")
+        self.addCleanup(directory.cleanup)
+        path = os.path.join(directory.name, "credentials")
         # Only its owner may read it, or the node refuses it.
         with open(os.open(path, os.O_WRONLY | os.O_CREAT, 0o600), "w", encoding="utf-8") as file:
             file.write(f"operator ops {OPERATOR}\nmodule lanes {MODULE} lane_change_left\n")
