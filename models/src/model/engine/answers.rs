@@ -1,12 +1,14 @@
 //! What the engine answers and publishes besides the factors, read back into the spec oracle's
 //! form ([`spec::responses`]): a call's `ResponseStatus`, `get_policies`'s answer, and the
-//! `/cooperation/scenes` topic, each through a planted fault if the model has one.
+//! `/cooperation/scenes` topic, each through a planted fault if the model has one; and an
+//! operator's call judged against the core's own transition at its time.
 
-use cooperation_adapters::engine::{Reply, Request};
+use cooperation::{Input, Rejection, State};
+use cooperation_adapters::engine::{Engine, Reply, Request};
 use cooperation_adapters::wire::{self, Response, ResponseStatus};
 use cooperation_adapters::Time;
 
-use super::{EngineFault, EngineModel, EngineStep};
+use super::{broken, spec, EngineFault, EngineModel, EngineStep};
 use crate::model::spec::responses::{self, PolicyEntry, SceneRow, Status};
 
 /// A `ResponseStatus` as the oracle reads it.
@@ -90,5 +92,49 @@ impl EngineModel {
             }
         }
         rows
+    }
+}
+
+/// What the core's own transition answers to `input` at the request's time: the core of
+/// `before` told the time since it was last told (up to `core_ms`, the core's time at the
+/// request by the model's count), then given `input`. The state it leaves, or the rejection.
+fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Result<State, Rejection> {
+    let mut state = before.state().clone();
+    let elapsed_ms = core_ms.saturating_sub(before.host().told_ms());
+    if elapsed_ms > 0 {
+        state.apply(&Input::Tick { elapsed_ms })?;
+    }
+    state.apply(input).map(|_| state)
+}
+
+impl EngineModel {
+    /// An operator's `request` (the core's `input`), made at `last`'s clock reading: answered
+    /// by the engine in `next`, and judged against the core's own transition at that time: the
+    /// status, field by field, is the one `[COOP-API-STATUS.1]` states for the transition's
+    /// result, and an applied call leaves the core the transition leaves. Whether it was
+    /// answered success.
+    pub(super) fn operator_call(
+        &self,
+        last: &EngineStep,
+        next: &mut EngineStep,
+        request: wire::Request,
+        input: &Input,
+    ) -> bool {
+        let len = match input {
+            Input::SetCommands { commands } => commands.len(),
+            Input::SetPolicies { policies } => policies.len(),
+            _ => 1,
+        };
+        let reply = self.handle(next, Request::Ad(request), last.now());
+        let expected = oracle(&last.engine, next.core_ms, input);
+        let status = spec::responses::batch_status(len, expected.as_ref().map(|_| ()));
+        let agrees = self.answered_status(&reply) == Some(status)
+            && expected
+                .as_ref()
+                .map_or(true, |state| next.engine.state() == state);
+        if !agrees {
+            next.broken |= broken::ANSWER;
+        }
+        reply.success()
     }
 }

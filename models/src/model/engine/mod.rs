@@ -34,7 +34,7 @@ use std::hash::Hash;
 
 use cooperation::{
     Behavior, Command, Config, Input, Limits, Module, OperatorDecision, Policy, PolicySetting,
-    Rejection, SceneId, State,
+    SceneId, State,
 };
 use cooperation_adapters::engine::{self, Engine, Now, Reply, Request};
 use cooperation_adapters::rtc::{self, CooperateStatus};
@@ -341,18 +341,6 @@ fn report(interface: &str, id: SceneId, safe: bool, start: f32) -> SyncRequest {
     }
 }
 
-/// What the core's own transition answers to `input` at the request's time: the core of
-/// `before` told the time since it was last told (up to `core_ms`, the core's time at the
-/// request by the model's count), then given `input`. The state it leaves, or the rejection.
-fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Result<State, Rejection> {
-    let mut state = before.state().clone();
-    let elapsed_ms = core_ms.saturating_sub(before.host().told_ms());
-    if elapsed_ms > 0 {
-        state.apply(&Input::Tick { elapsed_ms })?;
-    }
-    state.apply(input).map(|_| state)
-}
-
 impl Model for EngineModel {
     type State = EngineStep;
     type Action = EngineAction;
@@ -550,38 +538,6 @@ impl Model for EngineModel {
             all.retain(|property| property.name == focus);
         }
         all
-    }
-}
-
-impl EngineModel {
-    /// An operator's `request` (the core's `input`), made at `last`'s clock reading: answered
-    /// by the engine in `next`, and judged against the core's own transition at that time: the
-    /// status, field by field, is the one `[COOP-API-STATUS.1]` states for the transition's
-    /// result, and an applied call leaves the core the transition leaves. Whether it was
-    /// answered success.
-    fn operator_call(
-        &self,
-        last: &EngineStep,
-        next: &mut EngineStep,
-        request: wire::Request,
-        input: &Input,
-    ) -> bool {
-        let len = match input {
-            Input::SetCommands { commands } => commands.len(),
-            Input::SetPolicies { policies } => policies.len(),
-            _ => 1,
-        };
-        let reply = self.handle(next, Request::Ad(request), last.now());
-        let expected = oracle(&last.engine, next.core_ms, input);
-        let status = spec::responses::batch_status(len, expected.as_ref().map(|_| ()));
-        let agrees = self.answered_status(&reply) == Some(status)
-            && expected
-                .as_ref()
-                .map_or(true, |state| next.engine.state() == state);
-        if !agrees {
-            next.broken |= broken::ANSWER;
-        }
-        reply.success()
     }
 }
 
