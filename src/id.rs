@@ -50,6 +50,17 @@ impl SceneId {
     pub const fn to_u128(self) -> u128 {
         ((self.high as u128) << 64) | self.low as u128
     }
+
+    /// A cheap, fixed 64-bit hash of the identifier: its halves folded together and spread by
+    /// a multiplication (Fibonacci hashing), its high bits folded into the low ones that pick a
+    /// bucket. Cheap, since owners draw identifiers at random; fixed, so that a table keyed by
+    /// identifiers behaves the same in every run. The core's scene table hashes with it.
+    #[must_use]
+    pub const fn spread(self) -> u64 {
+        let folded = self.low ^ self.high.rotate_left(29);
+        let h = folded.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        h ^ (h >> 32)
+    }
 }
 
 impl fmt::Display for SceneId {

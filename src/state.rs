@@ -486,18 +486,21 @@ impl State {
                 // [COOP-CMD-DUPLICATE.1]
                 Some(CommandFailure::DuplicateId)
             } else {
-                match (self.scenes.get(command.id), self.retired.get(&command.id)) {
+                // The retired identifiers are searched only for a scene that is not live.
+                match self
+                    .scenes
+                    .get(command.id)
+                    .ok_or_else(|| self.retired.get(&command.id))
+                {
                     // [COOP-CMD-NOT-CANCELLABLE.1]
-                    (Some(scene), _) if !scene.is_cancellable() => {
+                    Ok(scene) if !scene.is_cancellable() => {
                         Some(CommandFailure::NotCancellable(scene.phase))
                     }
-                    (Some(_), _) => None,
+                    Ok(_) => None,
                     // [COOP-CMD-RETIRED.1]
-                    (None, Some(retirement)) => {
-                        Some(CommandFailure::RetiredScene(retirement.reason))
-                    }
+                    Err(Some(retirement)) => Some(CommandFailure::RetiredScene(retirement.reason)),
                     // [COOP-CMD-UNKNOWN.1]
-                    (None, None) => Some(CommandFailure::UnknownScene),
+                    Err(None) => Some(CommandFailure::UnknownScene),
                 }
             };
             if let Some(failure) = failure {

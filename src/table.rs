@@ -89,15 +89,9 @@ impl Layout {
     }
 }
 
-/// The table's hash of an identifier: its halves folded together and spread by a
-/// multiplication (Fibonacci hashing), its high bits folded into the low ones that pick the
-/// bucket. Cheap, since owners draw identifiers at random; fixed, so that the table behaves the
-/// same in every run.
-fn spread(id: SceneId) -> u64 {
-    let value = id.to_u128();
-    let folded = (value as u64) ^ ((value >> 64) as u64).rotate_left(29);
-    let h = folded.wrapping_mul(0x9e37_79b9_7f4a_7c15);
-    h ^ (h >> 32)
+/// The table's hash of an identifier ([`SceneId::spread`]).
+const fn spread(id: SceneId) -> u64 {
+    id.spread()
 }
 
 /// [`TableLayout::Colliding`]'s hash: one of the two last buckets of any index.

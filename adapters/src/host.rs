@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use cooperation::{State, Transition};
 
 use crate::engine::{Engine, Now, Publication};
-use crate::rtc::{Interface, Rtc, RtcError, View};
+use crate::rtc::{Interface, InterfaceId, Rtc, RtcError, View};
 use crate::wire;
 
 /// The core as a process serving it keeps it: the [`State`], the RTC interfaces' routing
@@ -82,6 +82,22 @@ impl Host {
     /// As [`Rtc::view`].
     pub fn view(&self, name: &str) -> Result<View<'_>, RtcError> {
         self.rtc.view(&self.state, name)
+    }
+
+    /// The RTC interface `id` ([`Rtc::find`]), to change the core through.
+    ///
+    /// # Errors
+    /// As [`Rtc::interface_at`].
+    pub fn interface_at(&mut self, id: InterfaceId) -> Result<Interface<'_>, RtcError> {
+        self.rtc.interface_at(&mut self.state, id)
+    }
+
+    /// The RTC interface `id` ([`Rtc::find`]), to query.
+    ///
+    /// # Errors
+    /// As [`Rtc::view_at`].
+    pub fn view_at(&self, id: InterfaceId) -> Result<View<'_>, RtcError> {
+        self.rtc.view_at(&self.state, id)
     }
 
     /// The core's time, in milliseconds from the host's start: the time it was told of, summed

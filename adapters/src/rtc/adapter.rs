@@ -38,6 +38,12 @@ pub struct Reply<T> {
     pub result: Result<Transition, RtcError>,
 }
 
+/// One of an adapter's interfaces, found by name once ([`Rtc::find`]), so that a caller making
+/// many calls through it (a planning module, each cycle) does not search the bindings by name
+/// each time.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct InterfaceId(usize);
+
 /// The RTC interfaces of a planner, over a core [`State`](cooperation::State) that the caller owns.
 ///
 /// It holds the interfaces' [`Binding`]s and, for each scene registered through one, which
@@ -50,7 +56,7 @@ pub struct Rtc {
     /// The interface (index into `bindings`) each scene registered through. Entries for
     /// identifiers the core no longer remembers are pruned when they could outnumber the live
     /// and retired identifiers.
-    routes: BTreeMap<SceneId, usize>,
+    routes: Routes,
     /// At most this many live scenes per interface, if set ([`Rtc::with_scene_quota`]).
     quota: Option<usize>,
 }
@@ -91,7 +97,7 @@ impl Rtc {
         }
         Ok(Self {
             bindings,
-            routes: BTreeMap::new(),
+            routes: Routes::default(),
             quota: None,
         })
     }
@@ -101,7 +107,7 @@ impl Rtc {
     pub fn standard() -> Self {
         Self {
             bindings: Binding::standard(),
-            routes: BTreeMap::new(),
+            routes: Routes::default(),
             quota: None,
         }
     }
@@ -140,15 +146,47 @@ impl Rtc {
             .collect()
     }
 
-    /// The interface named `name`, to change the core through.
+    /// The interface named `name`, found once: calls made with the id
+    /// ([`interface_at`](Self::interface_at), [`view_at`](Self::view_at)) skip the search by
+    /// name. The bindings never change after the adapter is made, so the id stays good for as
+    /// long as the adapter lives.
     ///
     /// # Errors
-    /// [`RtcError::UnknownInterface`] if no binding has the name (`[COOP-DEV-INTERFACE-NAME.1]`);
-    /// [`RtcError::Unconfigured`] if the core has no policy for one of its modules.
+    /// [`RtcError::UnknownInterface`] if no binding has the name (`[COOP-DEV-INTERFACE-NAME.1]`).
+    pub fn find(&self, name: &str) -> Result<InterfaceId, RtcError> {
+        // [COOP-DEV-INTERFACE-NAME.1]
+        self.bindings
+            .iter()
+            .position(|binding| binding.name == name)
+            .map(InterfaceId)
+            .ok_or_else(|| RtcError::UnknownInterface {
+                name: name.to_owned(),
+            })
+    }
+
+    /// The interface named `name`, to change the core through: [`find`](Self::find), then
+    /// [`interface_at`](Self::interface_at).
+    ///
+    /// # Errors
+    /// As those two.
     pub fn interface<'a>(
         &'a mut self,
         state: &'a mut cooperation::State,
         name: &str,
+    ) -> Result<Interface<'a>, RtcError> {
+        let id = self.find(name)?;
+        self.interface_at(state, id)
+    }
+
+    /// The interface `id`, to change the core through.
+    ///
+    /// # Errors
+    /// [`RtcError::Unconfigured`] if the core has no policy for one of its modules;
+    /// [`RtcError::UnknownInterface`] if `id` was found on an adapter with more bindings.
+    pub fn interface_at<'a>(
+        &'a mut self,
+        state: &'a mut cooperation::State,
+        id: InterfaceId,
     ) -> Result<Interface<'a>, RtcError> {
         let Self {
             bindings,
@@ -156,31 +194,44 @@ impl Rtc {
             quota,
         } = self;
         let bindings: &'a [Binding] = bindings;
-        let (index, binding) = find(bindings, state, name)?;
+        let binding = configured(bindings, state, id)?;
         Ok(Interface {
             bindings,
             binding,
-            index,
+            index: id.0,
             routes,
             state,
             quota: *quota,
         })
     }
 
-    /// The interface named `name`, to query.
+    /// The interface named `name`, to query: [`find`](Self::find), then
+    /// [`view_at`](Self::view_at).
     ///
     /// # Errors
-    /// As [`interface`](Self::interface).
+    /// As those two.
     pub fn view<'a>(
         &'a self,
         state: &'a cooperation::State,
         name: &str,
     ) -> Result<View<'a>, RtcError> {
-        let (index, binding) = find(&self.bindings, state, name)?;
+        self.view_at(state, self.find(name)?)
+    }
+
+    /// The interface `id`, to query.
+    ///
+    /// # Errors
+    /// As [`interface_at`](Self::interface_at).
+    pub fn view_at<'a>(
+        &'a self,
+        state: &'a cooperation::State,
+        id: InterfaceId,
+    ) -> Result<View<'a>, RtcError> {
+        let binding = configured(&self.bindings, state, id)?;
         Ok(View {
             bindings: &self.bindings,
             binding,
-            index,
+            index: id.0,
             routes: &self.routes,
             state,
         })
@@ -308,19 +359,16 @@ impl Rtc {
     }
 }
 
-/// The binding named `name`, with its index, if the core has a policy for each of its modules.
-fn find<'b>(
+/// The binding `id`, if the core has a policy for each of its modules.
+fn configured<'b>(
     bindings: &'b [Binding],
     state: &cooperation::State,
-    name: &str,
-) -> Result<(usize, &'b Binding), RtcError> {
-    // [COOP-DEV-INTERFACE-NAME.1]
-    let (index, binding) = bindings
-        .iter()
-        .enumerate()
-        .find(|(_, binding)| binding.name == name)
+    id: InterfaceId,
+) -> Result<&'b Binding, RtcError> {
+    let binding = bindings
+        .get(id.0)
         .ok_or_else(|| RtcError::UnknownInterface {
-            name: name.to_owned(),
+            name: format!("#{}", id.0),
         })?;
     if let Some(module) = binding
         .modules()
@@ -331,13 +379,13 @@ fn find<'b>(
             module,
         });
     }
-    Ok((index, binding))
+    Ok(binding)
 }
 
 /// Forgets the routes of identifiers the core no longer remembers, once they could outnumber
 /// the live and retired identifiers; so the routes never hold more than the core can remember
 /// plus one.
-fn prune(routes: &mut BTreeMap<SceneId, usize>, state: &cooperation::State) {
+fn prune(routes: &mut Routes, state: &cooperation::State) {
     let remembered = state
         .scene_count()
         .saturating_add(state.limits().retired_capacity);
@@ -439,5 +487,7 @@ fn auto_mode_status(binding: &Binding, state: &cooperation::State) -> AutoModeSt
 }
 
 mod interface;
+mod routes;
 
 pub use interface::{Interface, View};
+use routes::Routes;

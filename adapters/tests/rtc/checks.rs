@@ -101,3 +101,67 @@ fn the_external_array_puts_every_nan_last() {
         (Distance(w[1].start_distance), w[1].uuid.into()),
     )));
 }
+
+/// An interface found once by name answers as the name does, is refused as the name is, and an
+/// id found on an adapter with more bindings is refused by one with fewer.
+#[test]
+fn an_interface_found_once_answers_as_its_name() {
+    let Fixture { mut rtc, mut state } = {
+        let mut fixture = Fixture::new(false);
+        fixture
+            .report(
+                super::LEFT,
+                id(1),
+                true,
+                rtc::Lifecycle::WAITING_FOR_EXECUTION,
+            )
+            .expect("registers");
+        fixture
+    };
+    assert_eq!(
+        rtc.find("dynamic_obstacle_avoidance"),
+        Err(rtc::RtcError::UnknownInterface {
+            name: "dynamic_obstacle_avoidance".into()
+        })
+    );
+    let left = rtc.find(super::LEFT).expect("bound");
+    // A change through the id: auto mode off, so the scene waits for the operator.
+    let reply = rtc
+        .interface_at(&mut state, left)
+        .expect("bound")
+        .auto_mode(&rtc::AutoModeRequest { enable: false });
+    assert!(reply.response.success, "{reply:?}");
+    let by_name = rtc.view(&state, super::LEFT).expect("bound");
+    let by_id = rtc.view_at(&state, left).expect("bound");
+    assert!(by_id.is_registered(id(1)) && !by_id.is_activated(id(1)));
+    assert!(!by_id.auto_mode_status().is_auto_mode);
+    assert_eq!(
+        by_id.cooperate_status_array(Time::new(3, 0)),
+        by_name.cooperate_status_array(Time::new(3, 0))
+    );
+    // An id found on an adapter with one binding more: a place past this adapter's last.
+    let mut more = rtc::Binding::standard();
+    let last = more.len();
+    more.push(rtc::Binding::new(
+        "dynamic_obstacle_avoidance",
+        rtc::ModuleType::None,
+        Module::new(Behavior::Avoidance),
+        rtc::Kind::Steering(Direction::Unknown),
+    ));
+    let extra = rtc::Rtc::new(more)
+        .expect("distinct names")
+        .find("dynamic_obstacle_avoidance")
+        .expect("bound there");
+    let before = state.clone();
+    let error = rtc
+        .interface_at(&mut state, extra)
+        .map(|_| ())
+        .expect_err("not an interface here");
+    assert_eq!(
+        error,
+        rtc::RtcError::UnknownInterface {
+            name: format!("#{last}")
+        }
+    );
+    assert_eq!(state, before, "nothing changed");
+}

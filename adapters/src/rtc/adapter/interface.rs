@@ -1,8 +1,6 @@
 //! One RTC interface's calls (`rtc_interface`'s methods for one module): [`Interface`] to
 //! change the core through, [`View`] to query it.
 
-use std::collections::BTreeMap;
-
 use crate::rtc::{
     AutoModeRequest, AutoModeResponse, AutoModeStatus, Binding, CooperateCommandsRequest,
     CooperateCommandsResponse, CooperateStatusArray, RtcError, StatusReport,
@@ -14,6 +12,7 @@ use cooperation::{
 
 use super::{
     apply_commands, auto_mode, auto_mode_status, cooperate_status, prune, set_auto_mode, Reply,
+    Routes,
 };
 
 /// One RTC interface, for queries. Made by [`Rtc::view`](super::Rtc::view).
@@ -22,7 +21,7 @@ pub struct View<'a> {
     pub(super) bindings: &'a [Binding],
     pub(super) binding: &'a Binding,
     pub(super) index: usize,
-    pub(super) routes: &'a BTreeMap<SceneId, usize>,
+    pub(super) routes: &'a Routes,
     pub(super) state: &'a cooperation::State,
 }
 
@@ -43,7 +42,7 @@ impl<'a> View<'a> {
     /// `Ok` unless `id` is live but not this interface's (`[COOP-DEV-ID-REUSE.1]`). An identifier
     /// that is not live is left to the core to judge.
     fn check_owned(&self, id: SceneId) -> Result<(), RtcError> {
-        if self.state.scene(id).is_none() || self.scene(id).is_some() {
+        if self.state.scene(id).is_none() || self.routes.get(&id) == Some(&self.index) {
             return Ok(());
         }
         let owner = self
@@ -141,7 +140,7 @@ pub struct Interface<'a> {
     pub(super) bindings: &'a [Binding],
     pub(super) binding: &'a Binding,
     pub(super) index: usize,
-    pub(super) routes: &'a mut BTreeMap<SceneId, usize>,
+    pub(super) routes: &'a mut Routes,
     pub(super) state: &'a mut cooperation::State,
     pub(super) quota: Option<usize>,
 }
@@ -353,7 +352,7 @@ impl Interface<'_> {
         request: &CooperateCommandsRequest,
     ) -> Reply<CooperateCommandsResponse> {
         let (bindings, binding, index) = (self.bindings, self.binding, self.index);
-        let routes: &BTreeMap<SceneId, usize> = self.routes;
+        let routes: &Routes = self.routes;
         apply_commands(self.state, request, |state, id| {
             View {
                 bindings,
