@@ -230,7 +230,7 @@ int main(int argc, char ** argv)
   std::printf(
     "| method | scenes | C++ class (ns) | Rust, no boundary (ns) | upstream-style registry (ns) | "
     "class / Rust | class / upstream-style |\n|---|---:|---:|---:|---:|---:|---:|\n");
-  for (const std::size_t scenes : {10, 100, 1000}) {
+  for (const std::size_t scenes : {1, 3, 10, 100, 1000}) {
     const auto cpp = time_class(scenes, rounds);
     const auto linear = time_linear(scenes, rounds);
     std::map<std::string, double> rust;

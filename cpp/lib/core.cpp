@@ -66,7 +66,8 @@ InterfaceCore::InterfaceCore(const NodeIdentity & node, const std::string & name
     bound_ = refused("the interface name is not UTF-8: " + why);
     return;
   }
-  bound_ = b::bind(*core_->core, name_, enable_rtc);
+  handle_ = b::find(*core_->core, name_);
+  bound_ = b::bind(*core_->core, **handle_, enable_rtc);
 }
 
 InterfaceCore::~InterfaceCore() = default;
@@ -78,7 +79,7 @@ const std::string & InterfaceCore::name() const { return name_; }
 
 uint8_t InterfaceCore::module_type() const
 {
-  return bound_.ok ? b::module_type(*core_->core, name_) : 0;
+  return bound_.ok ? b::module_type(*core_->core, **handle_) : 0;
 }
 
 Told InterfaceCore::told(Stamp now, const Result & refusal)
@@ -99,7 +100,7 @@ Told InterfaceCore::update(
     return told(now, refused("the sequence is not UTF-8: " + why));
   }
   return b::update(
-    *core_->core, now, name_, uuid, safe, state, start_distance, finish_distance, requested,
+    *core_->core, now, **handle_, uuid, safe, state, start_distance, finish_distance, requested,
     stated.has_value(), stated ? rust::Str(*stated) : rust::Str());
 }
 
@@ -108,12 +109,12 @@ Result InterfaceCore::remove(const Uuid & uuid)
   if (!bound_.ok) {
     return bound_;
   }
-  return b::remove(*core_->core, name_, uuid);
+  return b::remove(*core_->core, **handle_, uuid);
 }
 
 Result InterfaceCore::clear()
 {
-  return bound_.ok ? b::clear(*core_->core, name_) : bound_;
+  return bound_.ok ? b::clear(*core_->core, **handle_) : bound_;
 }
 
 std::vector<Uuid> InterfaceCore::advance(Stamp now)
@@ -125,7 +126,7 @@ std::vector<Uuid> InterfaceCore::advance(Stamp now)
 #define COOPERATION_QUERY(method)                                   \
   bool InterfaceCore::method(const Uuid & uuid) const               \
   {                                                                 \
-    return bound_.ok && b::method(*core_->core, name_, uuid);       \
+    return bound_.ok && b::method(*core_->core, **handle_, uuid);   \
   }
 COOPERATION_QUERY(is_registered)
 COOPERATION_QUERY(is_activated)
@@ -138,7 +139,7 @@ std::optional<bool> InterfaceCore::is_rtc_enabled(const Uuid & uuid) const
   if (!bound_.ok) {
     return std::nullopt;
   }
-  const auto flag = b::is_rtc_enabled(*core_->core, name_, uuid);
+  const auto flag = b::is_rtc_enabled(*core_->core, **handle_, uuid);
   return flag.known ? std::optional<bool>(flag.value) : std::nullopt;
 }
 
@@ -147,7 +148,7 @@ std::optional<bool> InterfaceCore::is_terminated(const Uuid & uuid) const
   if (!bound_.ok) {
     return std::nullopt;
   }
-  const auto flag = b::is_terminated(*core_->core, name_, uuid);
+  const auto flag = b::is_terminated(*core_->core, **handle_, uuid);
   return flag.known ? std::optional<bool>(flag.value) : std::nullopt;
 }
 
@@ -156,19 +157,18 @@ std::vector<Status> InterfaceCore::statuses(Stamp stamp) const
   if (!bound_.ok) {
     return {};
   }
-  const auto statuses = b::statuses(*core_->core, name_, stamp);
+  const auto statuses = b::statuses(*core_->core, **handle_, stamp);
   return std::vector<Status>(statuses.begin(), statuses.end());
 }
 
 bool InterfaceCore::auto_mode_status() const
 {
-  return bound_.ok && b::auto_mode_status(*core_->core, name_);
+  return bound_.ok && b::auto_mode_status(*core_->core, **handle_);
 }
 
 Answered InterfaceCore::cooperate_commands(Stamp now, const std::vector<CommandIn> & commands)
 {
-  std::string why;
-  if (!utf8(name_, why)) {
+  if (!handle_) {
     // A name the bridge cannot carry reaches no adapter: each command is refused, as the
     // adapter refuses a batch it cannot route.
     auto refusal = told(now, bound_);
@@ -179,11 +179,11 @@ Answered InterfaceCore::cooperate_commands(Stamp now, const std::vector<CommandI
     return answered;
   }
   return b::cooperate_commands(
-    *core_->core, now, name_, rust::Slice<const CommandIn>(commands.data(), commands.size()));
+    *core_->core, now, **handle_, rust::Slice<const CommandIn>(commands.data(), commands.size()));
 }
 
 Told InterfaceCore::auto_mode(Stamp now, bool enable)
 {
-  return bound_.ok ? b::auto_mode(*core_->core, now, name_, enable) : told(now, bound_);
+  return bound_.ok ? b::auto_mode(*core_->core, now, **handle_, enable) : told(now, bound_);
 }
 }  // namespace cooperation::rtc

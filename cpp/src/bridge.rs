@@ -128,6 +128,9 @@ pub mod ffi {
     extern "Rust" {
         /// One node's core: its state, RTC interfaces and clock, behind one lock.
         type Core;
+        /// One RTC interface of a core, found by name once: the calls made through it do not
+        /// search the bindings by name.
+        type Handle;
 
         /// A core built as every node builds its own (the built-in settings file's policies
         /// and limits, the standard interface bindings). `quota` is the most live scenes one
@@ -135,17 +138,20 @@ pub mod ffi {
         fn new_core(quota: usize) -> Result<Box<Core>>;
         /// The scene quota per interface every node has unless told otherwise.
         fn default_scene_quota() -> usize;
-        /// Binds the interface `name` and sets its modules' policy as upstream's `enable_rtc`
+        /// The interface `name` of the core, found once (a name with no binding gives a handle
+        /// through which every call is refused, saying so).
+        fn find(core: &Core, name: &str) -> Box<Handle>;
+        /// Binds the interface and sets its modules' policy as upstream's `enable_rtc`
         /// constructor argument does.
-        fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome;
+        fn bind(core: &Core, interface: &Handle, enable_rtc: bool) -> Outcome;
         /// The module type the interface's statuses carry (0, `NONE`, if it is not bound).
-        fn module_type(core: &Core, name: &str) -> u8;
+        fn module_type(core: &Core, interface: &Handle) -> u8;
         /// `updateCooperateStatus` made at the node clock's `now` (the core is told it first);
         /// `sequence` is stated when `stated` is true.
         fn update(
             core: &Core,
             now: Stamp,
-            name: &str,
+            interface: &Handle,
             uuid: &Uuid,
             safe: bool,
             state: u8,
@@ -156,38 +162,38 @@ pub mod ffi {
             sequence: &str,
         ) -> Told;
         /// `removeCooperateStatus`.
-        fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome;
+        fn remove(core: &Core, interface: &Handle, uuid: &Uuid) -> Outcome;
         /// `clearCooperateStatus`.
-        fn clear(core: &Core, name: &str) -> Outcome;
+        fn clear(core: &Core, interface: &Handle) -> Outcome;
         /// Tells the core the node's clock reads `now`; answers the scenes that expired.
         fn advance(core: &Core, now: Stamp) -> Vec<Uuid>;
         /// `isRegistered`.
-        fn is_registered(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        fn is_registered(core: &Core, interface: &Handle, uuid: &Uuid) -> bool;
         /// `isActivated`.
-        fn is_activated(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        fn is_activated(core: &Core, interface: &Handle, uuid: &Uuid) -> bool;
         /// `isForceActivated`.
-        fn is_force_activated(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        fn is_force_activated(core: &Core, interface: &Handle, uuid: &Uuid) -> bool;
         /// `isForceDeactivated`.
-        fn is_force_deactivated(core: &Core, name: &str, uuid: &Uuid) -> bool;
+        fn is_force_deactivated(core: &Core, interface: &Handle, uuid: &Uuid) -> bool;
         /// `isRTCEnabled`.
-        fn is_rtc_enabled(core: &Core, name: &str, uuid: &Uuid) -> Flag;
+        fn is_rtc_enabled(core: &Core, interface: &Handle, uuid: &Uuid) -> Flag;
         /// `isTerminated`.
-        fn is_terminated(core: &Core, name: &str, uuid: &Uuid) -> Flag;
+        fn is_terminated(core: &Core, interface: &Handle, uuid: &Uuid) -> Flag;
         /// The statuses `publishCooperateStatus` publishes.
-        fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status>;
+        fn statuses(core: &Core, interface: &Handle, stamp: Stamp) -> Vec<Status>;
         /// The interface's auto-mode status.
-        fn auto_mode_status(core: &Core, name: &str) -> bool;
+        fn auto_mode_status(core: &Core, interface: &Handle) -> bool;
         /// The interface's `CooperateCommands` service, called at the node clock's `now` (the
         /// core is told it first): the adapter's response, entry for entry.
         fn cooperate_commands(
             core: &Core,
             now: Stamp,
-            name: &str,
+            interface: &Handle,
             commands: &[CommandIn],
         ) -> Answered;
         /// The interface's `AutoMode` service, called at the node clock's `now` (the core is
         /// told it first).
-        fn auto_mode(core: &Core, now: Stamp, name: &str, enable: bool) -> Told;
+        fn auto_mode(core: &Core, now: Stamp, interface: &Handle, enable: bool) -> Told;
 
         /// The benchmark's Rust baseline: the same calls as the C++ class makes, through
         /// `cooperation_adapters` directly, with `scenes` live scenes, `rounds` times each.

@@ -5,7 +5,7 @@ use cooperation::{SceneId, Sequence, Transition};
 use cooperation_adapters::engine::{self, Engine, Now};
 use cooperation_adapters::rtc::{
     self, AutoModeRequest, CooperateCommand, CooperateCommandsRequest, CooperateCommandsResponse,
-    RtcError, StatusReport,
+    InterfaceId, RtcError, StatusReport,
 };
 use cooperation_adapters::{Host, Shared, Time};
 
@@ -83,6 +83,39 @@ impl Core {
     }
 }
 
+/// One RTC interface of a node's core, found by name once (the C++ `InterfaceCore` holds it), so
+/// that the calls made through it do not search the bindings by name each time.
+#[derive(Debug)]
+pub struct Handle {
+    /// The interface, or why no binding has the name (every call through it is refused so).
+    found: Result<InterfaceId, RtcError>,
+}
+
+impl Handle {
+    /// The interface, to change the core through.
+    fn interface<'h>(&self, host: &'h mut Host) -> Result<rtc::Interface<'h>, RtcError> {
+        match &self.found {
+            Ok(id) => host.interface_at(*id),
+            Err(refusal) => Err(refusal.clone()),
+        }
+    }
+
+    /// The interface, to query.
+    fn view<'h>(&self, host: &'h Host) -> Result<rtc::View<'h>, RtcError> {
+        match &self.found {
+            Ok(id) => host.view_at(*id),
+            Err(refusal) => Err(refusal.clone()),
+        }
+    }
+}
+
+/// The interface `name` of `core`, found once.
+pub(crate) fn find(core: &Core, name: &str) -> Box<Handle> {
+    Box::new(Handle {
+        found: core.query(|host| host.rtc().find(name)),
+    })
+}
+
 pub(crate) fn new_core(quota: usize) -> Result<Box<Core>, String> {
     Core::new(quota).map(Box::new)
 }
@@ -134,12 +167,12 @@ fn told<T>((result, expired): (Result<T, RtcError>, Vec<Uuid>)) -> Told {
     }
 }
 
-pub(crate) fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome {
+pub(crate) fn bind(core: &Core, handle: &Handle, enable_rtc: bool) -> Outcome {
     core.change(|engine| {
         outcome(
             engine
                 .call(|host| {
-                    host.interface(name).and_then(|mut interface| {
+                    handle.interface(host).and_then(|mut interface| {
                         interface
                             .auto_mode(&AutoModeRequest {
                                 enable: !enable_rtc,
@@ -152,16 +185,11 @@ pub(crate) fn bind(core: &Core, name: &str, enable_rtc: bool) -> Outcome {
     })
 }
 
-pub(crate) fn module_type(core: &Core, name: &str) -> u8 {
-    core.query(|host| {
-        host.rtc()
-            .bindings()
-            .iter()
-            .find(|binding| binding.name == name)
-            .map_or(rtc::Module::NONE, |binding| {
-                rtc::Module::from(binding.module_type).r#type
-            })
+pub(crate) fn module_type(core: &Core, handle: &Handle) -> u8 {
+    view(core, handle, |view| {
+        rtc::Module::from(view.binding().module_type).r#type
     })
+    .unwrap_or(rtc::Module::NONE)
 }
 
 /// A distance as the core's reports carry it. A double beyond `f32`'s range becomes an infinity,
@@ -176,7 +204,7 @@ const fn metres(distance: f64) -> f32 {
 pub(crate) fn update(
     core: &Core,
     now: Stamp,
-    name: &str,
+    handle: &Handle,
     uuid: &Uuid,
     safe: bool,
     state: u8,
@@ -217,19 +245,21 @@ pub(crate) fn update(
     };
     told(core.call_at(now, |host| {
         report.and_then(|report| {
-            host.interface(name)?
+            handle
+                .interface(host)?
                 .update_cooperate_status(&report)
                 .map(drop)
         })
     }))
 }
 
-pub(crate) fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome {
+pub(crate) fn remove(core: &Core, handle: &Handle, uuid: &Uuid) -> Outcome {
     core.change(|engine| {
         outcome(
             engine
                 .call(|host| {
-                    host.interface(name)
+                    handle
+                        .interface(host)
                         .and_then(|mut interface| interface.remove_cooperate_status(id(uuid)))
                 })
                 .0,
@@ -237,12 +267,13 @@ pub(crate) fn remove(core: &Core, name: &str, uuid: &Uuid) -> Outcome {
     })
 }
 
-pub(crate) fn clear(core: &Core, name: &str) -> Outcome {
+pub(crate) fn clear(core: &Core, handle: &Handle) -> Outcome {
     core.change(|engine| {
         outcome(
             engine
                 .call(|host| {
-                    host.interface(name)
+                    handle
+                        .interface(host)
                         .and_then(|mut interface| interface.clear_cooperate_status())
                 })
                 .0,
@@ -256,24 +287,24 @@ pub(crate) fn advance(core: &Core, now: Stamp) -> Vec<Uuid> {
     core.change(|engine| expired(engine.advance(Now::of_stamp(time(now))).1))
 }
 
-fn view<R>(core: &Core, name: &str, query: impl FnOnce(&rtc::View<'_>) -> R) -> Option<R> {
-    core.query(|host| host.view(name).ok().map(|view| query(&view)))
+fn view<R>(core: &Core, handle: &Handle, query: impl FnOnce(&rtc::View<'_>) -> R) -> Option<R> {
+    core.query(|host| handle.view(host).ok().map(|view| query(&view)))
 }
 
-pub(crate) fn is_registered(core: &Core, name: &str, uuid: &Uuid) -> bool {
-    view(core, name, |view| view.is_registered(id(uuid))).unwrap_or(false)
+pub(crate) fn is_registered(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
+    view(core, handle, |view| view.is_registered(id(uuid))).unwrap_or(false)
 }
 
-pub(crate) fn is_activated(core: &Core, name: &str, uuid: &Uuid) -> bool {
-    view(core, name, |view| view.is_activated(id(uuid))).unwrap_or(false)
+pub(crate) fn is_activated(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
+    view(core, handle, |view| view.is_activated(id(uuid))).unwrap_or(false)
 }
 
-pub(crate) fn is_force_activated(core: &Core, name: &str, uuid: &Uuid) -> bool {
-    view(core, name, |view| view.is_force_activated(id(uuid))).unwrap_or(false)
+pub(crate) fn is_force_activated(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
+    view(core, handle, |view| view.is_force_activated(id(uuid))).unwrap_or(false)
 }
 
-pub(crate) fn is_force_deactivated(core: &Core, name: &str, uuid: &Uuid) -> bool {
-    view(core, name, |view| view.is_force_deactivated(id(uuid))).unwrap_or(false)
+pub(crate) fn is_force_deactivated(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
+    view(core, handle, |view| view.is_force_deactivated(id(uuid))).unwrap_or(false)
 }
 
 fn flag(answer: Option<Option<bool>>) -> Flag {
@@ -286,16 +317,16 @@ fn flag(answer: Option<Option<bool>>) -> Flag {
     }
 }
 
-pub(crate) fn is_rtc_enabled(core: &Core, name: &str, uuid: &Uuid) -> Flag {
-    flag(view(core, name, |view| view.is_rtc_enabled(id(uuid))))
+pub(crate) fn is_rtc_enabled(core: &Core, handle: &Handle, uuid: &Uuid) -> Flag {
+    flag(view(core, handle, |view| view.is_rtc_enabled(id(uuid))))
 }
 
-pub(crate) fn is_terminated(core: &Core, name: &str, uuid: &Uuid) -> Flag {
-    flag(view(core, name, |view| view.is_terminated(id(uuid))))
+pub(crate) fn is_terminated(core: &Core, handle: &Handle, uuid: &Uuid) -> Flag {
+    flag(view(core, handle, |view| view.is_terminated(id(uuid))))
 }
 
-pub(crate) fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status> {
-    view(core, name, |view| {
+pub(crate) fn statuses(core: &Core, handle: &Handle, stamp: Stamp) -> Vec<Status> {
+    view(core, handle, |view| {
         view.cooperate_status_array(time(stamp))
             .statuses
             .iter()
@@ -321,14 +352,14 @@ pub(crate) fn statuses(core: &Core, name: &str, stamp: Stamp) -> Vec<Status> {
     .unwrap_or_default()
 }
 
-pub(crate) fn auto_mode_status(core: &Core, name: &str) -> bool {
-    view(core, name, |view| view.auto_mode_status().is_auto_mode).unwrap_or(false)
+pub(crate) fn auto_mode_status(core: &Core, handle: &Handle) -> bool {
+    view(core, handle, |view| view.auto_mode_status().is_auto_mode).unwrap_or(false)
 }
 
 pub(crate) fn cooperate_commands(
     core: &Core,
     now: Stamp,
-    name: &str,
+    handle: &Handle,
     commands: &[CommandIn],
 ) -> Answered {
     let request = CooperateCommandsRequest {
@@ -346,7 +377,7 @@ pub(crate) fn cooperate_commands(
     };
     let mut response = None;
     let (result, expired) = core.call_at(now, |host| {
-        let reply = host.interface(name)?.cooperate_commands(&request);
+        let reply = handle.interface(host)?.cooperate_commands(&request);
         response = Some(reply.response);
         reply.result
     });
@@ -372,9 +403,10 @@ pub(crate) fn cooperate_commands(
     }
 }
 
-pub(crate) fn auto_mode(core: &Core, now: Stamp, name: &str, enable: bool) -> Told {
+pub(crate) fn auto_mode(core: &Core, now: Stamp, handle: &Handle, enable: bool) -> Told {
     told(core.call_at(now, |host| {
-        host.interface(name)
+        handle
+            .interface(host)
             .and_then(|mut interface| interface.auto_mode(&AutoModeRequest { enable }).result)
     }))
 }
@@ -393,15 +425,28 @@ mod tests {
         Stamp { sec, nanosec: 0 }
     }
 
-    /// A safe, waiting report of `id` through `name`, at `sec`.
+    /// A safe, waiting report of `id` through the interface `name`, at `sec`.
     fn report(core: &Core, sec: i32, name: &str, id: &Uuid) -> Told {
-        update(core, at(sec), name, id, true, 0, 1.0, 1.0, false, false, "")
+        update(
+            core,
+            at(sec),
+            &find(core, name),
+            id,
+            true,
+            0,
+            1.0,
+            1.0,
+            false,
+            false,
+            "",
+        )
     }
 
     #[test]
     fn the_first_reading_is_time_zero_and_time_never_goes_back() {
         let core = Core::new(0).unwrap();
-        assert!(bind(&core, "crosswalk", true).ok);
+        let crosswalk = find(&core, "crosswalk");
+        assert!(bind(&core, &crosswalk, true).ok);
         // An epoch reading: had the core started at 0, every scene would expire at once.
         assert!(advance(&core, at(1_700_000_000)).is_empty());
         let id = scene(1);
@@ -410,15 +455,16 @@ mod tests {
             assert!(advance(&core, at(1_700_000_000 + second)).is_empty());
         }
         assert!(advance(&core, at(1_600_000_000)).is_empty(), "went back");
-        assert!(is_registered(&core, "crosswalk", &id));
+        assert!(is_registered(&core, &crosswalk, &id));
         assert_eq!(advance(&core, at(1_700_000_011)), vec![id]);
-        assert!(!is_registered(&core, "crosswalk", &id));
+        assert!(!is_registered(&core, &crosswalk, &id));
     }
 
     #[test]
     fn a_jump_of_the_clock_counts_the_step_limit() {
         let core = Core::new(0).unwrap();
-        assert!(bind(&core, "crosswalk", true).ok);
+        let crosswalk = find(&core, "crosswalk");
+        assert!(bind(&core, &crosswalk, true).ok);
         assert!(advance(&core, at(100)).is_empty());
         let id = scene(3);
         assert!(report(&core, 100, "crosswalk", &id).outcome.ok);
@@ -427,7 +473,7 @@ mod tests {
         for second in 121..=128 {
             assert!(advance(&core, at(second)).is_empty());
         }
-        assert!(is_registered(&core, "crosswalk", &id));
+        assert!(is_registered(&core, &crosswalk, &id));
         // Two more seconds, 11 s counted: the scene no longer reported expires.
         assert!(advance(&core, at(129)).is_empty());
         assert_eq!(advance(&core, at(130)), vec![id]);
@@ -438,7 +484,8 @@ mod tests {
     #[test]
     fn each_call_is_made_at_its_own_time() {
         let core = Core::new(0).unwrap();
-        assert!(bind(&core, "crosswalk", true).ok);
+        let crosswalk = find(&core, "crosswalk");
+        assert!(bind(&core, &crosswalk, true).ok);
         let (first, second) = (scene(4), scene(5));
         assert_eq!(
             report(&core, 0, "crosswalk", &first),
@@ -454,16 +501,16 @@ mod tests {
             "expired for good"
         );
         for now in 12..=21 {
-            assert!(auto_mode(&core, at(now), "crosswalk", false)
+            assert!(auto_mode(&core, at(now), &crosswalk, false)
                 .expired
                 .is_empty());
         }
         let command = CommandIn {
             uuid: second,
-            module: module_type(&core, "crosswalk"),
+            module: module_type(&core, &crosswalk),
             command: rtc::Command::ACTIVATE,
         };
-        let late = cooperate_commands(&core, at(22), "crosswalk", &[command]);
+        let late = cooperate_commands(&core, at(22), &crosswalk, &[command]);
         assert_eq!(late.expired, vec![second]);
         assert!(!late.outcome.ok, "{late:?}");
         assert!(late.responses.iter().all(|entry| !entry.success));
@@ -478,9 +525,10 @@ mod tests {
             !unbound.ok && unbound.warning.contains("TestRTC"),
             "{unbound:?}"
         );
-        assert!(!bind(&core, "TestRTC", true).ok);
-        assert!(bind(&core, "static_obstacle_avoidance_left", true).ok);
-        let name = "static_obstacle_avoidance_left";
+        let unknown = find(&core, "TestRTC");
+        assert!(!bind(&core, &unknown, true).ok);
+        let name = &find(&core, "static_obstacle_avoidance_left");
+        assert!(bind(&core, name, true).ok);
         // A report in `sequence`, its state `state`.
         let stated = |state, sequence| {
             update(
@@ -525,7 +573,7 @@ mod tests {
             }
         );
         assert_eq!(module_type(&core, name), rtc::Module::AVOIDANCE_LEFT);
-        assert_eq!(module_type(&core, "TestRTC"), rtc::Module::NONE);
+        assert_eq!(module_type(&core, &unknown), rtc::Module::NONE);
     }
 
     #[test]

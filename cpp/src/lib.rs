@@ -23,4 +23,4 @@ pub mod bridge;
 mod calls;
 pub mod timing;
 
-pub use calls::Core;
+pub use calls::{Core, Handle};

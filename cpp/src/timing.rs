@@ -41,12 +41,13 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
     let Ok(core) = Core::new(0) else {
         return Vec::new();
     };
-    let _ = calls::bind(&core, NAME, false);
+    let handle = calls::find(&core, NAME);
+    let _ = calls::bind(&core, &handle, false);
     let scenes = scenes.max(1);
     let ids: Vec<Uuid> = (0..scenes).map(scene).collect();
     for uuid in &ids {
         let _ = calls::update(
-            &core, ZERO, NAME, uuid, true, 0, 10.0, 10.0, false, false, "",
+            &core, ZERO, &handle, uuid, true, 0, 10.0, 10.0, false, false, "",
         );
     }
     let at = |round: usize| ids.get(round % scenes).copied().unwrap_or(scene(0));
@@ -55,7 +56,7 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
             black_box(calls::update(
                 &core,
                 ZERO,
-                NAME,
+                &handle,
                 &at(round),
                 true,
                 0,
@@ -67,22 +68,22 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
             ));
         }),
         cost("isRegistered", rounds, |round| {
-            black_box(calls::is_registered(&core, NAME, &at(round)));
+            black_box(calls::is_registered(&core, &handle, &at(round)));
         }),
         cost("isActivated", rounds, |round| {
-            black_box(calls::is_activated(&core, NAME, &at(round)));
+            black_box(calls::is_activated(&core, &handle, &at(round)));
         }),
         cost("isForceActivated", rounds, |round| {
-            black_box(calls::is_force_activated(&core, NAME, &at(round)));
+            black_box(calls::is_force_activated(&core, &handle, &at(round)));
         }),
         cost("isForceDeactivated", rounds, |round| {
-            black_box(calls::is_force_deactivated(&core, NAME, &at(round)));
+            black_box(calls::is_force_deactivated(&core, &handle, &at(round)));
         }),
         cost("isRTCEnabled", rounds, |round| {
-            black_box(calls::is_rtc_enabled(&core, NAME, &at(round)));
+            black_box(calls::is_rtc_enabled(&core, &handle, &at(round)));
         }),
         cost("isTerminated", rounds, |round| {
-            black_box(calls::is_terminated(&core, NAME, &at(round)));
+            black_box(calls::is_terminated(&core, &handle, &at(round)));
         }),
         cost("cooperateCommands", rounds, |round| {
             let command = CommandIn {
@@ -90,10 +91,10 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
                 module: 0,
                 command: 1,
             };
-            black_box(calls::cooperate_commands(&core, ZERO, NAME, &[command]));
+            black_box(calls::cooperate_commands(&core, ZERO, &handle, &[command]));
         }),
         cost("publishCooperateStatus", rounds.div_ceil(scenes), |_| {
-            black_box(calls::statuses(&core, NAME, ZERO));
+            black_box(calls::statuses(&core, &handle, ZERO));
         }),
         cost("removeExpiredCooperateStatus", rounds, |_| {
             black_box(calls::advance(&core, ZERO));

@@ -130,6 +130,8 @@ private:
 
   std::shared_ptr<NodeCore> core_;
   std::string name_;
+  /// The interface, found by name once; none when the name is not UTF-8.
+  std::optional<rust::Box<::cooperation::bridge::Handle>> handle_;
   Result bound_;
 };
 }  // namespace cooperation::rtc
