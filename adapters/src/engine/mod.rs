@@ -334,6 +334,10 @@ impl Engine {
         let counted_ms = u64::try_from(step_ms)
             .unwrap_or(0)
             .min(self.options.max_step_ms.max(1));
+        if counted_ms == 0 {
+            // No time passes: nothing to tell the core (most calls of a cycle come here).
+            return None;
+        }
         match self
             .host
             .advance_to(self.host.told_ms().saturating_add(counted_ms))
