@@ -11,6 +11,8 @@ const PAGE: &str = include_str!("../panel/index.html");
 const SCRIPT: &str = include_str!("../panel/panel.js");
 /// Its way in: the token and `/whoami`.
 const ACCESS: &str = include_str!("../panel/access.js");
+/// Its small helpers: UUIDs, names, distances and DOM writes.
+const HELPERS: &str = include_str!("../panel/helpers.js");
 /// `roslib`'s browser build, from the npm package pinned in `panel/package-lock.json`
 /// (`tools/vendor-roslib` copies it).
 const ROSLIB: &str = include_str!("../panel/vendor/roslib.min.js");
@@ -30,5 +32,6 @@ pub(crate) fn routes<S: Clone + Send + Sync + 'static>() -> Router<S> {
     Router::new()
         .route("/panel.js", get(|| async { script(SCRIPT) }))
         .route("/access.js", get(|| async { script(ACCESS) }))
+        .route("/helpers.js", get(|| async { script(HELPERS) }))
         .route("/roslib.min.js", get(|| async { script(ROSLIB) }))
 }
