@@ -94,14 +94,18 @@ Told InterfaceCore::update(
   if (!bound_.ok) {
     return told(now, bound_);
   }
-  std::string why;
-  const auto stated = sequence ? utf8(*sequence, why) : std::optional<rust::String>{};
-  if (sequence && !stated) {
-    return told(now, refused("the sequence is not UTF-8: " + why));
+  // The sequence is passed as it is, checked as UTF-8 without a copy.
+  rust::Str stated;
+  if (sequence) {
+    try {
+      stated = rust::Str(*sequence);
+    } catch (const std::exception & e) {
+      return told(now, refused(std::string("the sequence is not UTF-8: ") + e.what()));
+    }
   }
   return b::update(
     *core_->core, now, **handle_, uuid, safe, state, start_distance, finish_distance, requested,
-    stated.has_value(), stated ? rust::Str(*stated) : rust::Str());
+    sequence.has_value(), stated);
 }
 
 Result InterfaceCore::remove(const Uuid & uuid)

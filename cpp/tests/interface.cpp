@@ -237,6 +237,10 @@ void sequences()
   avoidance.updateCooperateStatusIn("sideways", check::uuid(21), true, State::WAITING_FOR_EXECUTION, 5, 30, check::at(0));
   CHECK(log.warned("update refused") && !avoidance.isRegistered(check::uuid(21)),
         "a sequence the interface does not bind is refused");
+  avoidance.updateCooperateStatusIn(std::string("chan\xffge"), check::uuid(22), true,
+                                    State::WAITING_FOR_EXECUTION, 5, 30, check::at(0));
+  CHECK(log.warned("the sequence is not UTF-8") && !avoidance.isRegistered(check::uuid(22)),
+        "a sequence that is not UTF-8 is refused, not thrown");
 }
 void a_quota_per_interface()
 {
