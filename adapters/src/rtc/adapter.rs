@@ -53,6 +53,9 @@ pub struct InterfaceId(usize);
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub struct Rtc {
     bindings: Vec<Binding>,
+    /// Each binding's core modules, listed once when the adapter is made: every call checks
+    /// that the core has a policy for each, and reads them here rather than building them.
+    modules: Vec<Box<[Module]>>,
     /// The interface (index into `bindings`) each scene registered through. Entries for
     /// identifiers the core no longer remembers are pruned when they could outnumber the live
     /// and retired identifiers.
@@ -95,18 +98,24 @@ impl Rtc {
                 });
             }
         }
-        Ok(Self {
-            bindings,
-            routes: Routes::default(),
-            quota: None,
-        })
+        Ok(Self::checked(bindings))
     }
 
     /// The interfaces of [`Binding::standard`].
     #[must_use]
     pub fn standard() -> Self {
+        Self::checked(Binding::standard())
+    }
+
+    /// Interfaces with `bindings`, already checked as [`new`](Self::new) checks them.
+    fn checked(bindings: Vec<Binding>) -> Self {
+        let modules = bindings
+            .iter()
+            .map(|binding| binding.modules().collect())
+            .collect();
         Self {
-            bindings: Binding::standard(),
+            bindings,
+            modules,
             routes: Routes::default(),
             quota: None,
         }
@@ -190,11 +199,12 @@ impl Rtc {
     ) -> Result<Interface<'a>, RtcError> {
         let Self {
             bindings,
+            modules,
             routes,
             quota,
         } = self;
         let bindings: &'a [Binding] = bindings;
-        let binding = configured(bindings, state, id)?;
+        let binding = configured(bindings, modules, state, id)?;
         Ok(Interface {
             bindings,
             binding,
@@ -227,7 +237,7 @@ impl Rtc {
         state: &'a cooperation::State,
         id: InterfaceId,
     ) -> Result<View<'a>, RtcError> {
-        let binding = configured(&self.bindings, state, id)?;
+        let binding = configured(&self.bindings, &self.modules, state, id)?;
         Ok(View {
             bindings: &self.bindings,
             binding,
@@ -362,21 +372,22 @@ impl Rtc {
 /// The binding `id`, if the core has a policy for each of its modules.
 fn configured<'b>(
     bindings: &'b [Binding],
+    modules: &[Box<[Module]>],
     state: &cooperation::State,
     id: InterfaceId,
 ) -> Result<&'b Binding, RtcError> {
-    let binding = bindings
-        .get(id.0)
-        .ok_or_else(|| RtcError::UnknownInterface {
+    let (Some(binding), Some(modules)) = (bindings.get(id.0), modules.get(id.0)) else {
+        return Err(RtcError::UnknownInterface {
             name: format!("#{}", id.0),
-        })?;
-    if let Some(module) = binding
-        .modules()
-        .find(|module| state.policy(*module).is_none())
+        });
+    };
+    if let Some(module) = modules
+        .iter()
+        .find(|module| state.policy(**module).is_none())
     {
         return Err(RtcError::Unconfigured {
             name: binding.name.clone(),
-            module,
+            module: *module,
         });
     }
     Ok(binding)
