@@ -15,6 +15,7 @@ fn model() -> EngineModel {
         velocity: false,
         jumps: false,
         rewinds: false,
+        in_process: false,
     })
     .expect("valid bounds")
 }
@@ -40,6 +41,19 @@ fn geometry(velocity: bool) -> EngineModel {
         velocity,
         jumps: false,
         rewinds: false,
+        in_process: false,
+    })
+    .expect("valid bounds")
+}
+
+/// As [`model`] with the clock to 2 ms (time enough for a scene to outlive its time to live)
+/// and the operator's commands made through the RTC interface in the engine's process, as the
+/// C++ class makes them.
+fn in_process() -> EngineModel {
+    EngineModel::new(EngineBounds {
+        horizon_ms: 2,
+        in_process: true,
+        ..model().bounds()
     })
     .expect("valid bounds")
 }
@@ -51,6 +65,25 @@ fn the_engine_meets_its_rules() {
     assert_eq!(failing, Vec::<&str>::new());
     println!("engine model, 2 identifiers, the clock to 3 ms: {unique} unique states");
     assert_eq!(unique, pins::ENGINE_2.unique);
+}
+
+/// Through the C++ class's door, every property holds and the count is the pinned one; a call
+/// in the process made at the time the core was last told, not at the call's, fails the command
+/// property and the answer property.
+#[test]
+fn a_command_in_the_process_is_made_at_its_time() {
+    let (broken, unique) = failing(in_process());
+    assert_eq!(broken, Vec::<&str>::new());
+    println!("engine model, 2 identifiers, the clock to 2 ms, commands in the process: {unique} unique states");
+    for property in [engine::TIME, engine::ANSWER] {
+        let (broken, _) = failing(
+            in_process()
+                .with_fault(EngineFault::InProcessWithoutCatchUp)
+                .focus(property),
+        );
+        assert_eq!(broken, vec![property], "InProcessWithoutCatchUp");
+    }
+    assert_eq!(unique, pins::ENGINE_IN_PROCESS.unique);
 }
 
 /// With a clock that jumps, every property holds (a scene lives its time to live in the core's

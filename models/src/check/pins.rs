@@ -262,6 +262,17 @@ pub const ENGINE_JUMPS: Pin = Pin {
     generated: None,
 };
 
+/// The engine model with the operator's commands made through the RTC interface in the
+/// engine's process, as the C++ class makes them: 2 identifiers, its clock to 2 ms.
+pub const ENGINE_IN_PROCESS: Pin = Pin {
+    test: "models/tests/engine_model.rs::a_command_in_the_process_is_made_at_its_time",
+    model: "engine, commands in the process",
+    bounds: "2 ids, 2 ms",
+    search: "BFS",
+    unique: 167_742,
+    generated: None,
+};
+
 /// The engine model with a clock that goes back 1 ms once, 2 identifiers, its clock to 3 ms.
 pub const ENGINE_REWINDS: Pin = Pin {
     test: "models/tests/engine_model.rs::a_clock_that_goes_back_counts_on_from_its_reading",
@@ -313,7 +324,7 @@ pub const NETWORK_ENGINE_STATUS_VIEWS: Pin = Pin {
 };
 
 /// Every pin, in the order `docs/counts.md` lists them.
-pub const ALL: [Pin; 28] = [
+pub const ALL: [Pin; 29] = [
     SEQUENTIAL_1X2,
     SEQUENTIAL_1X2_SYMMETRY,
     SEQUENTIAL_2X2,
@@ -336,6 +347,7 @@ pub const ALL: [Pin; 28] = [
     RTC_QUOTA,
     ENGINE_2,
     ENGINE_JUMPS,
+    ENGINE_IN_PROCESS,
     ENGINE_REWINDS,
     ENGINE_GEOMETRY_STEERING,
     ENGINE_GEOMETRY_VELOCITY,

@@ -98,7 +98,7 @@ impl EngineModel {
 /// What the core's own transition answers to `input` at the request's time: the core of
 /// `before` told the time since it was last told (up to `core_ms`, the core's time at the
 /// request by the model's count), then given `input`. The state it leaves, or the rejection.
-fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Result<State, Rejection> {
+pub(super) fn oracle(before: &Engine, core_ms: u64, input: &Input) -> Result<State, Rejection> {
     let mut state = before.state().clone();
     let elapsed_ms = core_ms.saturating_sub(before.host().told_ms());
     if elapsed_ms > 0 {

@@ -53,11 +53,15 @@ pub enum EngineFault {
     /// The engine asks for the time a millisecond before a scene's time to live has passed,
     /// when nothing else falls due: its host calls for nothing.
     ExpiryEarly,
+    /// With [`EngineBounds::in_process`], a call in the engine's process is made at the time the
+    /// core was last told (`Engine::call`, as the C++ class made its calls before it called
+    /// `Engine::call_at`): a command can reach a scene whose time to live has passed.
+    InProcessWithoutCatchUp,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 16] = [
+    pub const ALL: [Self; 17] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -74,6 +78,7 @@ impl EngineFault {
         Self::BackHoldsPublications,
         Self::ExpiryUnasked,
         Self::ExpiryEarly,
+        Self::InProcessWithoutCatchUp,
     ];
 }
 
@@ -101,6 +106,11 @@ pub struct EngineBounds {
     /// (`[COOP-ENGINE-STEP.1]`).
     #[serde(default)]
     pub rewinds: bool,
+    /// The operator's commands reach the model's RTC interface in the engine's process, as the
+    /// C++ class's `cooperateCommands` service does (`Engine::call_at`), instead of the AD
+    /// API's `set_commands`.
+    #[serde(default)]
+    pub in_process: bool,
 }
 
 /// The step limit with [`EngineBounds::jumps`], in milliseconds: the time to live, so that a

@@ -17,6 +17,7 @@
 
 mod answers;
 mod config;
+mod in_process;
 mod properties;
 mod step;
 mod wake;
@@ -487,12 +488,17 @@ impl Model for EngineModel {
                 }
             }
             EngineAction::Command(id, decision) => {
-                let commands = [Command { id, decision }];
-                let request = wire::Request::SetCommands(commands.iter().copied().collect());
-                let input = Input::SetCommands {
-                    commands: commands.to_vec(),
+                let applied = if self.bounds.in_process {
+                    self.in_process_command(last, &mut next, id, decision)?
+                } else {
+                    let commands = [Command { id, decision }];
+                    let request = wire::Request::SetCommands(commands.iter().copied().collect());
+                    let input = Input::SetCommands {
+                        commands: commands.to_vec(),
+                    };
+                    self.operator_call(last, &mut next, request, &input)
                 };
-                if self.operator_call(last, &mut next, request, &input) {
+                if applied {
                     // The scene's age in the core's time at the request's.
                     let age = self
                         .position(id)
