@@ -4,6 +4,7 @@
 //! arm come before its first write, so a rejected input returns before anything changed.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::sync::Arc;
 
 use crate::table::IdTable;
 #[cfg(feature = "verification")]
@@ -109,9 +110,12 @@ pub struct State {
     limits: Limits,
     policies: Policies,
     scenes: IdTable<Scene>,
-    retired: BTreeMap<SceneId, Retirement>,
-    /// The retired identifiers, oldest first; same set as `retired`.
-    retired_order: VecDeque<SceneId>,
+    /// The retired identifiers. Shared between clones until a retirement changes them, as the
+    /// policies are: most inputs retire nothing, and a model checker clones the state for
+    /// every step it takes.
+    retired: Arc<BTreeMap<SceneId, Retirement>>,
+    /// The retired identifiers, oldest first; same set as `retired`, shared as it is.
+    retired_order: Arc<VecDeque<SceneId>>,
 }
 
 impl State {
@@ -126,8 +130,8 @@ impl State {
             limits,
             policies: policies.into_iter().collect(),
             scenes: IdTable::new(),
-            retired: BTreeMap::new(),
-            retired_order: VecDeque::new(),
+            retired: Arc::default(),
+            retired_order: Arc::default(),
         })
     }
 
@@ -400,22 +404,26 @@ impl State {
             return;
         };
         journal.record(|| Undo::Retired(id, scene.clone()));
-        while self.retired_order.len() >= self.limits.retired_capacity {
-            let Some(oldest) = self.retired_order.pop_front() else {
+        let (retired, order) = (
+            Arc::make_mut(&mut self.retired),
+            Arc::make_mut(&mut self.retired_order),
+        );
+        while order.len() >= self.limits.retired_capacity {
+            let Some(oldest) = order.pop_front() else {
                 break;
             };
-            if let Some(retirement) = self.retired.remove(&oldest) {
+            if let Some(retirement) = retired.remove(&oldest) {
                 journal.record(|| Undo::Forgot(oldest, retirement));
             }
         }
-        self.retired.insert(
+        retired.insert(
             id,
             Retirement {
                 module: scene.module,
                 reason,
             },
         );
-        self.retired_order.push_back(id);
+        order.push_back(id);
     }
 
     // ---------------------------------------------------------------------------------------

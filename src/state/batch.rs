@@ -8,6 +8,7 @@
 //! taking a two-input registration back costs what the registration cost.
 
 use core::fmt;
+use std::sync::Arc;
 
 use super::State;
 use crate::{Input, Module, Policy, Rejection, Retirement, Scene, SceneId, Transition};
@@ -126,15 +127,15 @@ impl State {
                 Undo::Retired(id, scene) => {
                     // The newest retirement, so the last in the retirement order.
                     if self.retired_order.back() == Some(&id) {
-                        self.retired_order.pop_back();
+                        Arc::make_mut(&mut self.retired_order).pop_back();
                     }
-                    self.retired.remove(&id);
+                    Arc::make_mut(&mut self.retired).remove(&id);
                     self.scenes.insert(id, scene);
                 }
                 Undo::Forgot(id, retirement) => {
                     // Forgotten as the oldest, so it goes back to the front.
-                    self.retired_order.push_front(id);
-                    self.retired.insert(id, retirement);
+                    Arc::make_mut(&mut self.retired_order).push_front(id);
+                    Arc::make_mut(&mut self.retired).insert(id, retirement);
                 }
                 Undo::Aged(ages) => {
                     for (id, age_ms) in ages {

@@ -86,9 +86,11 @@ impl State {
         let renamed = Self {
             limits: self.limits,
             policies: self.policies.clone(),
-            retired_order: self.retired_order.iter().map(|id| rename(*id)).collect(),
+            retired_order: std::sync::Arc::new(
+                self.retired_order.iter().map(|id| rename(*id)).collect(),
+            ),
             scenes,
-            retired,
+            retired: std::sync::Arc::new(retired),
         };
         let distinct = renamed.scenes.len() == self.scenes.len()
             && renamed.retired.len() == self.retired.len()

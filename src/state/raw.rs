@@ -62,8 +62,8 @@ impl From<super::State> for State {
             limits: state.limits,
             policies: state.policies.iter().collect(),
             scenes: state.scenes.into_iter().collect(),
-            retired: state.retired.into_iter().collect(),
-            retired_order: state.retired_order.into_iter().collect(),
+            retired: state.retired.iter().map(|(id, r)| (*id, *r)).collect(),
+            retired_order: state.retired_order.iter().copied().collect(),
         }
     }
 }
@@ -89,8 +89,8 @@ impl TryFrom<State> for super::State {
             limits: raw.limits,
             policies: raw.policies.into_iter().collect(),
             scenes: raw.scenes.into_iter().collect(),
-            retired: raw.retired.into_iter().collect(),
-            retired_order: raw.retired_order.into_iter().collect(),
+            retired: std::sync::Arc::new(raw.retired.into_iter().collect()),
+            retired_order: std::sync::Arc::new(raw.retired_order.into_iter().collect()),
         };
         state.check_invariants().map_err(Refusal::Invariant)?;
         Ok(state)
