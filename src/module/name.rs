@@ -20,7 +20,7 @@ const WORD: usize = 8;
 /// An `Extension` is made only by parsing ([`Behavior::named`](super::Behavior::named),
 /// [`Sequence::named`](super::Sequence::named) or `str::parse`), so one always holds a valid
 /// name.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Extension {
     /// The name's bytes, then zeros, in three words. Zero is not a name byte, so the order of
     /// the arrays is the order of the names.
@@ -94,6 +94,16 @@ impl Extension {
             .position(|&byte| byte == 0)
             .unwrap_or(Self::MAX_LEN);
         bytes.get(..len).unwrap_or_default()
+    }
+}
+
+impl core::hash::Hash for Extension {
+    /// The three words, each as one integer. (A derived hash feeds the hasher each word's
+    /// length and bytes apart: eight calls where three do.)
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        for word in self.words {
+            state.write_u64(u64::from_ne_bytes(word));
+        }
     }
 }
 
