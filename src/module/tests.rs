@@ -38,6 +38,15 @@ fn names_are_ordered_by_their_strings_built_in_or_not() {
         "lane-change-assist",
         "merge",
         "zz",
+        // Extension names across the words they are kept in: a prefix, `-` and digits before
+        // letters, a name of one word and one more byte, the longest names.
+        "a",
+        "a-",
+        "a0",
+        "abcdefgh",
+        "abcdefgha",
+        "abcdefghabcdefghabcdefgg",
+        "abcdefghabcdefghabcdefgh",
     ];
     for a in behaviors {
         for b in behaviors {
@@ -53,6 +62,9 @@ fn names_are_ordered_by_their_strings_built_in_or_not() {
         "change-again",
         "return",
         "zz",
+        "b",
+        "back-to-the-lane-at-last",
+        "back0",
     ];
     for a in sequences {
         for b in sequences {
