@@ -47,8 +47,8 @@ fn geometry(velocity: bool) -> EngineModel {
 }
 
 /// As [`model`] with the clock to 2 ms (time enough for a scene to outlive its time to live)
-/// and the operator's commands made through the RTC interface in the engine's process, as the
-/// C++ class makes them.
+/// and the module's reports and the operator's commands made through the RTC interface in the
+/// engine's process, as the C++ class makes them.
 fn in_process() -> EngineModel {
     EngineModel::new(EngineBounds {
         horizon_ms: 2,
@@ -68,14 +68,14 @@ fn the_engine_meets_its_rules() {
 }
 
 /// Through the C++ class's door, every property holds and the count is the pinned one; a call
-/// in the process made at the time the core was last told, not at the call's, fails the command
-/// property and the answer property.
+/// in the process made at the time the core was last told, not at the call's, fails the
+/// command property, the answer property and the scene lifetime property.
 #[test]
 fn a_command_in_the_process_is_made_at_its_time() {
     let (broken, unique) = failing(in_process());
     assert_eq!(broken, Vec::<&str>::new());
-    println!("engine model, 2 identifiers, the clock to 2 ms, commands in the process: {unique} unique states");
-    for property in [engine::TIME, engine::ANSWER] {
+    println!("engine model, 2 identifiers, the clock to 2 ms, reports and commands in the process: {unique} unique states");
+    for property in [engine::TIME, engine::ANSWER, engine::LIFETIME] {
         let (broken, _) = failing(
             in_process()
                 .with_fault(EngineFault::InProcessWithoutCatchUp)

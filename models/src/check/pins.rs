@@ -262,14 +262,15 @@ pub const ENGINE_JUMPS: Pin = Pin {
     generated: None,
 };
 
-/// The engine model with the operator's commands made through the RTC interface in the
-/// engine's process, as the C++ class makes them: 2 identifiers, its clock to 2 ms.
+/// The engine model with the module's reports and the operator's commands made through the
+/// RTC interface in the engine's process, as the C++ class makes them: 2 identifiers, its clock
+/// to 2 ms.
 pub const ENGINE_IN_PROCESS: Pin = Pin {
     test: "models/tests/engine_model.rs::a_command_in_the_process_is_made_at_its_time",
-    model: "engine, commands in the process",
+    model: "engine, the C++ class's door",
     bounds: "2 ids, 2 ms",
     search: "BFS",
-    unique: 167_742,
+    unique: 167_214,
     generated: None,
 };
 

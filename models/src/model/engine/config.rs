@@ -55,7 +55,8 @@ pub enum EngineFault {
     ExpiryEarly,
     /// With [`EngineBounds::in_process`], a call in the engine's process is made at the time the
     /// core was last told (`Engine::call`, as the C++ class made its calls before it called
-    /// `Engine::call_at`): a command can reach a scene whose time to live has passed.
+    /// `Engine::call_at`): a report's scene starts its time to live in the past, and a command
+    /// can reach a scene whose time to live has passed.
     InProcessWithoutCatchUp,
 }
 
@@ -106,9 +107,10 @@ pub struct EngineBounds {
     /// (`[COOP-ENGINE-STEP.1]`).
     #[serde(default)]
     pub rewinds: bool,
-    /// The operator's commands reach the model's RTC interface in the engine's process, as the
-    /// C++ class's `cooperateCommands` service does (`Engine::call_at`), instead of the AD
-    /// API's `set_commands`.
+    /// The module's reports and the operator's commands reach the model's RTC interface in the
+    /// engine's process, as the C++ class's `updateCooperateStatus` and its `cooperateCommands`
+    /// service do (`Engine::call_at`), instead of the module sync and the AD API's
+    /// `set_commands`.
     #[serde(default)]
     pub in_process: bool,
 }

@@ -453,12 +453,16 @@ impl Model for EngineModel {
                 } else {
                     START
                 };
-                let request = report(self.reporter.1, id, safe, start);
-                let reply = self.handle(&mut next, Request::Sync(request), now);
-                let Reply::Sync(response) = reply else {
-                    return None;
+                let accepted = if self.bounds.in_process {
+                    self.in_process_report(&mut next, now, id, safe, start)
+                } else {
+                    let request = report(self.reporter.1, id, safe, start);
+                    let reply = self.handle(&mut next, Request::Sync(request), now);
+                    let Reply::Sync(response) = reply else {
+                        return None;
+                    };
+                    response.results.first().is_some_and(|r| r.success)
                 };
-                let accepted = response.results.first().is_some_and(|r| r.success);
                 if let (true, Some(at)) = (accepted, self.position(id)) {
                     if let Some(slot) = next.reported_ms.get_mut(at) {
                         *slot = Some(last.clock_ms);
