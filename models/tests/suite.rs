@@ -11,6 +11,7 @@ mod coverage;
 mod engine_model;
 mod exhaustive;
 mod faults;
+mod library;
 mod model_only;
 mod network_engine;
 mod reductions;

@@ -133,23 +133,3 @@ pub(super) fn alphabet(config: &Config, ids: &[SceneId]) -> Vec<Input> {
     inputs.push(Input::Tick { elapsed_ms: 1 });
     inputs
 }
-
-#[cfg(test)]
-mod tests {
-    use super::super::{Bounds, SequentialModel};
-    use cooperation::Input;
-
-    #[test]
-    fn the_alphabet_is_deterministic_and_covers_every_kind_of_input() {
-        let model = SequentialModel::new(Bounds::new(2, 3)).expect("valid");
-        let again = SequentialModel::new(Bounds::new(2, 3)).expect("valid");
-        assert_eq!(model.alphabet(), again.alphabet());
-        let has = |f: fn(&Input) -> bool| model.alphabet().iter().any(f);
-        assert!(has(|i| matches!(i, Input::Register { .. })));
-        assert!(has(|i| matches!(i, Input::Update { .. })));
-        assert!(has(|i| matches!(i, Input::Remove { .. })));
-        assert!(has(|i| matches!(i, Input::SetCommands { .. })));
-        assert!(has(|i| matches!(i, Input::SetPolicies { .. })));
-        assert!(has(|i| matches!(i, Input::Tick { .. })));
-    }
-}

@@ -498,25 +498,3 @@ pub fn properties() -> Vec<Property<SequentialModel>> {
     ));
     properties
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn there_is_a_property_per_rule_and_per_invariant() {
-        let names: Vec<&str> = properties().iter().map(|p| p.name).collect();
-        for rule in Rule::ALL {
-            assert!(
-                names
-                    .iter()
-                    .any(|n| n.starts_with(rule.tag()) && n.ends_with("is reachable")),
-                "{rule}"
-            );
-            assert!(names.contains(&rule_property(rule).as_str()), "{rule}");
-        }
-        assert!(names.contains(&INVARIANTS));
-        let unique: std::collections::BTreeSet<&str> = names.iter().copied().collect();
-        assert_eq!(unique.len(), names.len(), "property names are unique");
-    }
-}

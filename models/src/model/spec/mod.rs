@@ -168,36 +168,3 @@ impl Tables {
         })
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reads_the_specs_table() {
-        let table = MergeTable::from_spec(SPEC).expect("the spec's table reads");
-        assert_eq!(
-            table.merged(
-                OperatorDecision::Undecided,
-                Policy::Required,
-                Decision::Activate
-            ),
-            Some(Decision::Deactivate)
-        );
-        assert!(MergeTable::from_spec("no table here").is_err());
-    }
-
-    #[test]
-    fn reads_the_specs_lifecycle() {
-        let table = LifecycleTable::from_spec(SPEC).expect("the spec's lifecycle reads");
-        assert!(table.allows(Phase::Running, Phase::Succeeded));
-        assert!(!table.allows(Phase::Aborting, Phase::Running));
-        assert!(!table.allows(Phase::Failed, Phase::Failed));
-        let edited = SPEC.replace(
-            "| aborting | ✗ | ✗ | ✓ | ✗ | ✓ |",
-            "| aborting | ✗ | ? | ✓ | ✗ | ✓ |",
-        );
-        assert!(LifecycleTable::from_spec(&edited).is_err());
-        assert!(LifecycleTable::from_spec("no table here").is_err());
-    }
-}
