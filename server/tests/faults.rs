@@ -154,6 +154,20 @@ async fn a_slow_subscriber_skips_publications_and_each_is_whole_and_current() {
     .await;
     // 500 scenes: publications of about 90 KB, 200 a second.
     five_hundred_scenes(&served.url).await;
+    // The publication made before the last sync (400 scenes) may still be the latest for a
+    // moment: wait until one shows all 500, so that every publication from here on should.
+    let mut watcher = Client::connect(&served.url).await;
+    watcher.subscribe("/api/planning/velocity_factors").await;
+    let mut seen = 0;
+    while watcher.next_op("publish").await["msg"]["factors"]
+        .as_array()
+        .map(Vec::len)
+        != Some(500)
+    {
+        seen += 1;
+        assert!(seen < 100, "no publication shows the 500 scenes synced");
+    }
+    drop(watcher);
     let mut slow = Client::connect(&served.url).await;
     slow.subscribe("/api/planning/velocity_factors").await;
     // It reads nothing for 2 s (about 400 publications, 36 MB), during which an operator
