@@ -190,6 +190,60 @@ async fn every_limit_is_logged_when_it_bites() {
     logged("credential \"panel\" has 1 connections open, the most it may have").await;
 }
 
+/// The line of the log that says `text` (whole, or as the last of a period's summary).
+fn line_saying(text: &str) -> String {
+    let all =
+        String::from_utf8_lossy(&log().lock().unwrap_or_else(PoisonError::into_inner)).into_owned();
+    all.lines()
+        .find(|line| line.contains(text))
+        .unwrap_or_default()
+        .to_owned()
+}
+
+/// On a node without credentials whose places are all taken, a client from an address with
+/// fewer takes the place of the oldest client of the address with the most: the client let in
+/// and the client closed are both logged, each with its address (`docs/server.md`, *Limits and
+/// faults*).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_let_in_in_anothers_place_and_the_one_closed_are_both_logged() {
+    log();
+    let served = serve(Options {
+        max_clients: 2,
+        admission: Admission {
+            // Each logged whole, or else as the last of a summary: a period ends between them.
+            refusal_log_every: Duration::from_millis(20),
+            ..Admission::default()
+        },
+        ..Options::default()
+    })
+    .await;
+    let mut oldest = Client::connect_from(&served.url, "127.0.0.11")
+        .await
+        .expect("in");
+    let _second = Client::connect_from(&served.url, "127.0.0.11")
+        .await
+        .expect("in");
+    let _newcomer = Client::connect_from(&served.url, "127.0.0.12")
+        .await
+        .expect("in, in the place of 127.0.0.11's oldest");
+    assert!(oldest.next().await.is_none(), "the oldest client is closed");
+    let let_in =
+        "a client let in in place of the oldest client of the address with the most of the 2 clients";
+    logged(let_in).await;
+    assert!(
+        line_saying(let_in).contains("127.0.0.12"),
+        "{}",
+        line_saying(let_in)
+    );
+    let closed = "a client closed: a client from an address with fewer took its place";
+    logged(closed).await;
+    assert!(
+        line_saying(closed).contains("127.0.0.11"),
+        "{}",
+        line_saying(closed)
+    );
+}
+
 /// Asks for a WebSocket from `from` (a loopback address) with a token the node does not know;
 /// the status line of the answer.
 async fn knock(at: &str, from: &str) -> String {
