@@ -29,6 +29,7 @@ pub mod check;
 pub mod model;
 
 pub use check::trace::Trace;
+pub use model::batch::{BatchFault, BatchModel};
 pub use model::engine::{EngineBounds, EngineFault, EngineModel};
 pub use model::fault::Fault;
 pub use model::ids::ModelError;

@@ -8,7 +8,7 @@
 
 use cooperation::{
     merge, CommandFailure, CommandOutcome, Decision, Input, OperatorDecision, Policy, Rejection,
-    Rule, SceneId, State, Transition,
+    Rule, SceneId, SequenceRejection, State, Transition,
 };
 use serde_json::{json, Value};
 
@@ -259,6 +259,17 @@ pub fn transition(
         None => next.apply(input),
         Some(fault) => fault.apply(&mut next, input),
     };
+    (next, result)
+}
+
+/// The transition of a sequence of inputs: `State::apply_all` on a copy of `core`, as a
+/// consumer calls it. Gives the copy as the sequence left it, and the result.
+pub fn sequence(
+    core: &State,
+    inputs: &[Input],
+) -> (State, Result<Vec<Transition>, SequenceRejection>) {
+    let mut next = core.clone();
+    let result = next.apply_all(inputs);
     (next, result)
 }
 

@@ -2,6 +2,8 @@
 //!
 //! - [`sequential`]: the core alone, one input at a time, every input of a bounded alphabet in
 //!   every reachable state; its properties are the spec's rules, tables and invariants.
+//! - [`batch`]: the core's sequences of inputs (`State::apply_all`), all or none, against
+//!   `State::apply` input by input.
 //! - [`network`]: the planner and operators with messages delayed, reordered, duplicated and
 //!   lost between them.
 //! - [`rtc`]: the RTC adapter (`cooperation_adapters::rtc`) over the core, call by call.
@@ -16,6 +18,7 @@
 //!   only), and the one place a model applies an input.
 //! - [`ids`] and [`describe`]: what every model shares: identifiers, errors, inputs in words.
 
+pub mod batch;
 pub mod describe;
 pub mod engine;
 pub mod fault;
