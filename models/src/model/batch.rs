@@ -165,9 +165,9 @@ impl Model for BatchModel {
         };
         let refused = expected.is_err();
         if refused && !broken {
-            // Nothing changed: the witness is all this step can show.
-            let (after_first, _) = one_by_one(&state.core, inputs.get(..1)?);
-            return forgot(&state.core, &after_first).then_some(BatchState {
+            // Nothing changed: the witness is all this step can show. Input by input, the state
+            // is the one the inputs before the refused one made.
+            return forgot(&state.core, &expected_core).then_some(BatchState {
                 core,
                 broken: false,
                 took_back_forgetting: true,
