@@ -1,6 +1,7 @@
 //! A process that hosts the core for others: the core with the bookkeeping its adapters keep
 //! ([`Host`]), and the service engine over it behind one lock ([`Shared`]).
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use cooperation::{State, Transition};
@@ -165,6 +166,8 @@ impl Host {
 #[derive(Debug)]
 pub struct Shared {
     inner: Mutex<Inner>,
+    /// How many times [`update`](Self::update) has taken the lock ([`changes`](Self::changes)).
+    changes: AtomicU64,
 }
 
 /// What the lock guards: the engine, and its newest publication for every door that sends
@@ -187,6 +190,7 @@ impl Shared {
                 published: 0,
                 newest: None,
             }),
+            changes: AtomicU64::new(0),
         }
     }
 
@@ -202,13 +206,33 @@ impl Shared {
     /// whole or not at all, and no other thread's input lands between them. Keep it short;
     /// every other caller waits for it.
     pub fn update<R>(&self, change: impl FnOnce(&mut Engine) -> R) -> R {
-        change(&mut self.lock().engine)
+        let mut inner = self.lock();
+        // Counted before the change, under the lock: a reader that sees the count move reads
+        // again under the lock, so after the change; one that does not is before it.
+        self.changes.fetch_add(1, Ordering::Release);
+        change(&mut inner.engine)
     }
 
     /// Runs `query` between two changes: everything it reads is from one moment. Keep it short;
     /// every other caller waits for it.
     pub fn read<R>(&self, query: impl FnOnce(&Engine) -> R) -> R {
         query(&self.lock().engine)
+    }
+
+    /// How many times [`update`](Self::update) has run (or begun), read without the lock: a
+    /// count that moves before anything in the engine can change. A reader that keeps what it
+    /// read with the count it read it at ([`read_counted`](Self::read_counted)) knows it is
+    /// still current while the count has not moved, whatever other thread changes the engine.
+    #[must_use]
+    pub fn changes(&self) -> u64 {
+        self.changes.load(Ordering::Acquire)
+    }
+
+    /// [`read`](Self::read), with the [`changes`](Self::changes) count the engine is at while
+    /// `query` reads it (the count cannot move while the lock is held).
+    pub fn read_counted<R>(&self, query: impl FnOnce(u64, &Engine) -> R) -> R {
+        let inner = self.lock();
+        query(self.changes.load(Ordering::Acquire), &inner.engine)
     }
 
     /// The newest publication for a door that has sent the first `sent` ones, with its number:

@@ -39,6 +39,14 @@ impl<'a> View<'a> {
         (self.routes.get(&id) == Some(&self.index)).then_some(scene)
     }
 
+    /// This interface's live scenes, in identifier order.
+    pub fn scenes(&self) -> impl Iterator<Item = (SceneId, &'a Scene)> + 'a {
+        let (routes, index) = (self.routes, self.index);
+        self.state
+            .scenes()
+            .filter(move |(id, _)| routes.get(id) == Some(&index))
+    }
+
     /// `Ok` unless `id` is live but not this interface's (`[COOP-DEV-ID-REUSE.1]`). An identifier
     /// that is not live is left to the core to judge.
     fn check_owned(&self, id: SceneId) -> Result<(), RtcError> {
@@ -118,9 +126,7 @@ impl<'a> View<'a> {
         CooperateStatusArray {
             stamp,
             statuses: self
-                .state
                 .scenes()
-                .filter(|(id, _)| self.routes.get(id) == Some(&self.index))
                 .map(|(id, scene)| cooperate_status(self.binding, id, scene, self.state, stamp))
                 .collect(),
         }
