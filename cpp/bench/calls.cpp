@@ -189,6 +189,17 @@ std::map<std::string, double> time_class(std::size_t scenes, std::size_t rounds)
     time_ns((rounds + scenes - 1) / scenes, [&](std::size_t) { rtc.publishCooperateStatus(node.now()); });
   ns["removeExpiredCooperateStatus"] =
     time_ns(rounds, [&](std::size_t) { rtc.removeExpiredCooperateStatus(); });
+  ns["planningCycle"] = time_ns((rounds + scenes - 1) / scenes, [&](std::size_t) {
+    for (std::size_t i = 0; i < scenes; ++i) {
+      sink = rtc.isActivated(scene(i));
+      sink = rtc.isRTCEnabled(scene(i));
+    }
+    for (std::size_t i = 0; i < scenes; ++i) {
+      rtc.updateCooperateStatus(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
+    }
+    rtc.removeExpiredCooperateStatus();
+    rtc.publishCooperateStatus(node.now());
+  });
   return ns;
 }
 
@@ -220,6 +231,17 @@ std::map<std::string, double> time_linear(std::size_t scenes, std::size_t rounds
   ns["publishCooperateStatus"] = time_ns(
     (rounds + scenes - 1) / scenes, [&](std::size_t) { sink = registry.publish().statuses.empty(); });
   ns["removeExpiredCooperateStatus"] = time_ns(rounds, [&](std::size_t) { registry.remove_expired(0); });
+  ns["planningCycle"] = time_ns((rounds + scenes - 1) / scenes, [&](std::size_t) {
+    for (std::size_t i = 0; i < scenes; ++i) {
+      sink = registry.is_activated(scene(i));
+      sink = registry.is_rtc_enabled(scene(i));
+    }
+    for (std::size_t i = 0; i < scenes; ++i) {
+      registry.update(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10);
+    }
+    registry.remove_expired(0);
+    sink = registry.publish().statuses.empty();
+  });
   return ns;
 }
 }  // namespace

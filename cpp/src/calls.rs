@@ -12,6 +12,7 @@ use cooperation_adapters::{Host, Shared, Time};
 use crate::bridge::ffi::{
     self, Answered, CommandIn, CommandOut, Flag, Outcome, Stamp, Status, Told, Uuid,
 };
+use crate::snapshot::{Answers, Lookup, Snapshot};
 
 /// One node's core: the service engine (the state, the RTC interfaces' routing and the clock
 /// the core was last told of) behind one lock ([`Shared`]), shared by every interface of the
@@ -71,12 +72,13 @@ impl Core {
         })
     }
 
-    /// Runs `query` under the core's lock, telling ThreadSanitizer of the lock.
-    fn query<R>(&self, query: impl FnOnce(&Host) -> R) -> R {
+    /// Runs `query` under the core's lock, telling ThreadSanitizer of the lock: `query` is
+    /// given the core's change count ([`Shared::changes`]) with it.
+    fn query<R>(&self, query: impl FnOnce(u64, &Host) -> R) -> R {
         let address = std::ptr::from_ref(self) as usize;
-        self.shared.read(|engine| {
+        self.shared.read_counted(|changes, engine| {
             ffi::lock_acquired(address);
-            let answer = query(engine.host());
+            let answer = query(changes, engine.host());
             ffi::lock_releasing(address);
             answer
         })
@@ -89,6 +91,9 @@ impl Core {
 pub struct Handle {
     /// The interface, or why no binding has the name (every call through it is refused so).
     found: Result<InterfaceId, RtcError>,
+    /// The answers of the interface's queries, kept for the next queries while the core does
+    /// not change.
+    snapshot: Snapshot,
 }
 
 impl Handle {
@@ -112,7 +117,8 @@ impl Handle {
 /// The interface `name` of `core`, found once.
 pub(crate) fn find(core: &Core, name: &str) -> Box<Handle> {
     Box::new(Handle {
-        found: core.query(|host| host.rtc().find(name)),
+        found: core.query(|_, host| host.rtc().find(name)),
+        snapshot: Snapshot::default(),
     })
 }
 
@@ -288,23 +294,80 @@ pub(crate) fn advance(core: &Core, now: Stamp) -> Vec<Uuid> {
 }
 
 fn view<R>(core: &Core, handle: &Handle, query: impl FnOnce(&rtc::View<'_>) -> R) -> Option<R> {
-    core.query(|host| handle.view(host).ok().map(|view| query(&view)))
+    core.query(|_, host| handle.view(host).ok().map(|view| query(&view)))
+}
+
+/// A query about the scene `uuid`: answered from the handle's snapshot by `copied` when the
+/// snapshot is current and `copied` can answer, else by `asked` through the core, under its
+/// lock, where the snapshot is made again if the core changed (`None`: the interface cannot be
+/// queried, as [`view`]).
+fn ask<R>(
+    core: &Core,
+    handle: &Handle,
+    uuid: &Uuid,
+    copied: impl FnOnce(Option<Answers>) -> Option<R>,
+    asked: impl FnOnce(&rtc::View<'_>) -> R,
+) -> Option<R> {
+    if let Lookup::Current(answers) = handle.snapshot.lookup(core.shared.changes(), &uuid.bytes) {
+        if let Some(answer) = copied(answers) {
+            return Some(answer);
+        }
+    }
+    core.query(|changes, host| {
+        let view = handle.view(host).ok();
+        handle.snapshot.make(changes, view.as_ref());
+        view.map(|view| asked(&view))
+    })
+}
+
+/// A yes-or-no query that is `false` for a scene that is not a live scene of the interface.
+fn ask_live(
+    core: &Core,
+    handle: &Handle,
+    uuid: &Uuid,
+    copied: impl FnOnce(Answers) -> bool,
+    asked: impl FnOnce(&rtc::View<'_>, SceneId) -> bool,
+) -> bool {
+    ask(
+        core,
+        handle,
+        uuid,
+        |answers| Some(answers.is_some_and(copied)),
+        |view| asked(view, id(uuid)),
+    )
+    .unwrap_or(false)
 }
 
 pub(crate) fn is_registered(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
-    view(core, handle, |view| view.is_registered(id(uuid))).unwrap_or(false)
+    ask_live(
+        core,
+        handle,
+        uuid,
+        |_| true,
+        |view, id| view.is_registered(id),
+    )
 }
 
 pub(crate) fn is_activated(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
-    view(core, handle, |view| view.is_activated(id(uuid))).unwrap_or(false)
+    ask_live(core, handle, uuid, Answers::activated, |view, id| {
+        view.is_activated(id)
+    })
 }
 
 pub(crate) fn is_force_activated(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
-    view(core, handle, |view| view.is_force_activated(id(uuid))).unwrap_or(false)
+    ask_live(core, handle, uuid, Answers::force_activated, |view, id| {
+        view.is_force_activated(id)
+    })
 }
 
 pub(crate) fn is_force_deactivated(core: &Core, handle: &Handle, uuid: &Uuid) -> bool {
-    view(core, handle, |view| view.is_force_deactivated(id(uuid))).unwrap_or(false)
+    ask_live(
+        core,
+        handle,
+        uuid,
+        Answers::force_deactivated,
+        |view, id| view.is_force_deactivated(id),
+    )
 }
 
 fn flag(answer: Option<Option<bool>>) -> Flag {
@@ -318,11 +381,25 @@ fn flag(answer: Option<Option<bool>>) -> Flag {
 }
 
 pub(crate) fn is_rtc_enabled(core: &Core, handle: &Handle, uuid: &Uuid) -> Flag {
-    flag(view(core, handle, |view| view.is_rtc_enabled(id(uuid))))
+    // A scene that is not live has no answer ([`flag`]).
+    flag(ask(
+        core,
+        handle,
+        uuid,
+        |answers| Some(answers.map(Answers::rtc_enabled)),
+        |view| view.is_rtc_enabled(id(uuid)),
+    ))
 }
 
 pub(crate) fn is_terminated(core: &Core, handle: &Handle, uuid: &Uuid) -> Flag {
-    flag(view(core, handle, |view| view.is_terminated(id(uuid))))
+    // A live scene is not terminated; of one that is not live, the snapshot knows nothing.
+    flag(ask(
+        core,
+        handle,
+        uuid,
+        |answers| answers.map(|_| Some(false)),
+        |view| view.is_terminated(id(uuid)),
+    ))
 }
 
 pub(crate) fn statuses(core: &Core, handle: &Handle, stamp: Stamp) -> Vec<Status> {
@@ -412,174 +489,4 @@ pub(crate) fn auto_mode(core: &Core, now: Stamp, handle: &Handle, enable: bool) 
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn scene(n: u8) -> Uuid {
-        let mut bytes = [0; 16];
-        bytes[15] = n;
-        Uuid { bytes }
-    }
-
-    fn at(sec: i32) -> Stamp {
-        Stamp { sec, nanosec: 0 }
-    }
-
-    /// A safe, waiting report of `id` through the interface `name`, at `sec`.
-    fn report(core: &Core, sec: i32, name: &str, id: &Uuid) -> Told {
-        update(
-            core,
-            at(sec),
-            &find(core, name),
-            id,
-            true,
-            0,
-            1.0,
-            1.0,
-            false,
-            false,
-            "",
-        )
-    }
-
-    #[test]
-    fn the_first_reading_is_time_zero_and_time_never_goes_back() {
-        let core = Core::new(0).unwrap();
-        let crosswalk = find(&core, "crosswalk");
-        assert!(bind(&core, &crosswalk, true).ok);
-        // An epoch reading: had the core started at 0, every scene would expire at once.
-        assert!(advance(&core, at(1_700_000_000)).is_empty());
-        let id = scene(1);
-        assert!(report(&core, 1_700_000_000, "crosswalk", &id).outcome.ok);
-        for second in 1..=10 {
-            assert!(advance(&core, at(1_700_000_000 + second)).is_empty());
-        }
-        assert!(advance(&core, at(1_600_000_000)).is_empty(), "went back");
-        assert!(is_registered(&core, &crosswalk, &id));
-        assert_eq!(advance(&core, at(1_700_000_011)), vec![id]);
-        assert!(!is_registered(&core, &crosswalk, &id));
-    }
-
-    #[test]
-    fn a_jump_of_the_clock_counts_the_step_limit() {
-        let core = Core::new(0).unwrap();
-        let crosswalk = find(&core, "crosswalk");
-        assert!(bind(&core, &crosswalk, true).ok);
-        assert!(advance(&core, at(100)).is_empty());
-        let id = scene(3);
-        assert!(report(&core, 100, "crosswalk", &id).outcome.ok);
-        // A seek 20 s ahead, then 8 s of cycles: 9 s counted, within the time to live.
-        assert!(advance(&core, at(120)).is_empty());
-        for second in 121..=128 {
-            assert!(advance(&core, at(second)).is_empty());
-        }
-        assert!(is_registered(&core, &crosswalk, &id));
-        // Two more seconds, 11 s counted: the scene no longer reported expires.
-        assert!(advance(&core, at(129)).is_empty());
-        assert_eq!(advance(&core, at(130)), vec![id]);
-    }
-
-    /// `[COOP-ENGINE-TIME.1]`: a report, a command and an auto-mode switch are each made at
-    /// their own time, told in the same call, and each says which scenes expired first.
-    #[test]
-    fn each_call_is_made_at_its_own_time() {
-        let core = Core::new(0).unwrap();
-        let crosswalk = find(&core, "crosswalk");
-        assert!(bind(&core, &crosswalk, true).ok);
-        let (first, second) = (scene(4), scene(5));
-        assert_eq!(
-            report(&core, 0, "crosswalk", &first),
-            told((Ok(()), Vec::new()))
-        );
-        for now in 1..=10 {
-            assert!(report(&core, now, "crosswalk", &second).expired.is_empty());
-        }
-        // The first scene's time to live ran out: it expires before the report is made.
-        assert_eq!(report(&core, 11, "crosswalk", &second).expired, vec![first]);
-        assert!(
-            !report(&core, 11, "crosswalk", &first).outcome.ok,
-            "expired for good"
-        );
-        for now in 12..=21 {
-            assert!(auto_mode(&core, at(now), &crosswalk, false)
-                .expired
-                .is_empty());
-        }
-        let command = CommandIn {
-            uuid: second,
-            module: module_type(&core, &crosswalk),
-            command: rtc::Command::ACTIVATE,
-        };
-        let late = cooperate_commands(&core, at(22), &crosswalk, &[command]);
-        assert_eq!(late.expired, vec![second]);
-        assert!(!late.outcome.ok, "{late:?}");
-        assert!(late.responses.iter().all(|entry| !entry.success));
-    }
-
-    #[test]
-    fn refusals_are_explained_and_change_nothing() {
-        let core = Core::new(0).unwrap();
-        let id = scene(2);
-        let unbound = report(&core, 0, "TestRTC", &id).outcome;
-        assert!(
-            !unbound.ok && unbound.warning.contains("TestRTC"),
-            "{unbound:?}"
-        );
-        let unknown = find(&core, "TestRTC");
-        assert!(!bind(&core, &unknown, true).ok);
-        let name = &find(&core, "static_obstacle_avoidance_left");
-        assert!(bind(&core, name, true).ok);
-        // A report in `sequence`, its state `state`.
-        let stated = |state, sequence| {
-            update(
-                &core,
-                at(0),
-                name,
-                &id,
-                true,
-                state,
-                1.0,
-                1.0,
-                false,
-                true,
-                sequence,
-            )
-            .outcome
-        };
-        let bad = stated(0, "a b");
-        assert!(
-            !bad.ok && bad.warning.starts_with("sequence \"a b\""),
-            "{bad:?}"
-        );
-        let state = stated(9, "change");
-        assert!(
-            !state.ok && state.warning.contains("state.type is 9"),
-            "{state:?}"
-        );
-        assert!(!is_registered(&core, name, &id));
-        assert_eq!(
-            is_rtc_enabled(&core, name, &id),
-            Flag {
-                known: false,
-                value: false
-            }
-        );
-        assert!(stated(0, "change").ok);
-        assert_eq!(
-            is_rtc_enabled(&core, name, &id),
-            Flag {
-                known: true,
-                value: true
-            }
-        );
-        assert_eq!(module_type(&core, name), rtc::Module::AVOIDANCE_LEFT);
-        assert_eq!(module_type(&core, &unknown), rtc::Module::NONE);
-    }
-
-    #[test]
-    fn the_benchmark_baseline_times_every_call() {
-        let costs = crate::timing::time_rust_calls(10, 10);
-        assert_eq!(costs.len(), 10);
-        assert!(costs.iter().all(|cost| cost.nanos > 0.0), "{costs:?}");
-    }
-}
+mod tests;

@@ -21,6 +21,7 @@
 #[allow(unsafe_code)]
 pub mod bridge;
 mod calls;
+mod snapshot;
 pub mod timing;
 
 pub use calls::{Core, Handle};

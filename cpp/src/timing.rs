@@ -34,7 +34,10 @@ fn cost(method: &str, rounds: usize, mut call: impl FnMut(usize)) -> CallCost {
 }
 
 /// Each call of the C++ class's hot path with `scenes` live scenes in one interface, `rounds`
-/// times, cycling over the scenes; the mean nanoseconds per call. Empty if the core cannot be
+/// times, cycling over the scenes; the mean nanoseconds per call. Then a planning cycle as
+/// upstream's velocity planner makes it, `rounds / scenes` times: `isActivated` and
+/// `isRTCEnabled` of every scene, `updateCooperateStatus` of every scene, the expired removed
+/// and the statuses published; the mean nanoseconds per cycle. Empty if the core cannot be
 /// built (it always can with the standard bindings).
 #[must_use]
 pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
@@ -98,6 +101,19 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
         }),
         cost("removeExpiredCooperateStatus", rounds, |_| {
             black_box(calls::advance(&core, ZERO));
+        }),
+        cost("planningCycle", rounds.div_ceil(scenes), |_| {
+            for uuid in &ids {
+                black_box(calls::is_activated(&core, &handle, uuid));
+                black_box(calls::is_rtc_enabled(&core, &handle, uuid));
+            }
+            for uuid in &ids {
+                black_box(calls::update(
+                    &core, ZERO, &handle, uuid, true, 0, 10.0, 10.0, false, false, "",
+                ));
+            }
+            black_box(calls::advance(&core, ZERO));
+            black_box(calls::statuses(&core, &handle, ZERO));
         }),
     ]
 }
