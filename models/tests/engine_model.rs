@@ -47,8 +47,8 @@ fn geometry(velocity: bool) -> EngineModel {
 }
 
 /// As [`model`] with the clock to 2 ms (time enough for a scene to outlive its time to live)
-/// and the module's reports and the operator's commands made through the RTC interface in the
-/// engine's process, as the C++ class makes them.
+/// and the module's reports, the operator's commands and the module's auto mode (its policy)
+/// made through the RTC interface in the engine's process, as the C++ class makes them.
 fn in_process() -> EngineModel {
     EngineModel::new(EngineBounds {
         horizon_ms: 2,
@@ -69,12 +69,13 @@ fn the_engine_meets_its_rules() {
 
 /// Through the C++ class's door, every property holds and the count is the pinned one; a call
 /// in the process made at the time the core was last told, not at the call's, fails the
-/// command property, the answer property and the scene lifetime property.
+/// command property, the answer property and the scene lifetime property, and an auto-mode
+/// switch alone made so fails the answer property.
 #[test]
 fn a_command_in_the_process_is_made_at_its_time() {
     let (broken, unique) = failing(in_process());
     assert_eq!(broken, Vec::<&str>::new());
-    println!("engine model, 2 identifiers, the clock to 2 ms, reports and commands in the process: {unique} unique states");
+    println!("engine model, 2 identifiers, the clock to 2 ms, reports, commands and auto mode in the process: {unique} unique states");
     for property in [engine::TIME, engine::ANSWER, engine::LIFETIME] {
         let (broken, _) = failing(
             in_process()
@@ -83,6 +84,13 @@ fn a_command_in_the_process_is_made_at_its_time() {
         );
         assert_eq!(broken, vec![property], "InProcessWithoutCatchUp");
     }
+    // An auto-mode switch alone made late: the answer is not the core's at the call's time.
+    let (broken, _) = failing(
+        in_process()
+            .with_fault(EngineFault::AutoModeWithoutCatchUp)
+            .focus(engine::ANSWER),
+    );
+    assert_eq!(broken, vec![engine::ANSWER], "AutoModeWithoutCatchUp");
     assert_eq!(unique, pins::ENGINE_IN_PROCESS.unique);
 }
 

@@ -58,11 +58,15 @@ pub enum EngineFault {
     /// `Engine::call_at`): a report's scene starts its time to live in the past, and a command
     /// can reach a scene whose time to live has passed.
     InProcessWithoutCatchUp,
+    /// With [`EngineBounds::in_process`], an auto-mode switch in the engine's process alone is
+    /// made at the time the core was last told (reports and commands at their own): the
+    /// module's policy changes before the scenes whose time to live had passed expire.
+    AutoModeWithoutCatchUp,
 }
 
 impl EngineFault {
     /// Every fault.
-    pub const ALL: [Self; 17] = [
+    pub const ALL: [Self; 18] = [
         Self::CallWithoutCatchUp,
         Self::ReportWithoutCatchUp,
         Self::ChangeUnpublished,
@@ -80,6 +84,7 @@ impl EngineFault {
         Self::ExpiryUnasked,
         Self::ExpiryEarly,
         Self::InProcessWithoutCatchUp,
+        Self::AutoModeWithoutCatchUp,
     ];
 }
 

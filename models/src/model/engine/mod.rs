@@ -513,6 +513,9 @@ impl Model for EngineModel {
                     }
                 }
             }
+            EngineAction::Policy(policy) if self.bounds.in_process => {
+                self.in_process_policy(last, &mut next, policy);
+            }
             EngineAction::Policy(policy) => {
                 let settings = [PolicySetting {
                     module: self.reporter.0,
