@@ -404,9 +404,7 @@ pub(crate) fn is_terminated(core: &Core, handle: &Handle, uuid: &Uuid) -> Flag {
 
 pub(crate) fn statuses(core: &Core, handle: &Handle, stamp: Stamp) -> Vec<Status> {
     view(core, handle, |view| {
-        view.cooperate_status_array(time(stamp))
-            .statuses
-            .iter()
+        view.cooperate_statuses(time(stamp))
             .map(|status| Status {
                 stamp: Stamp {
                     sec: status.stamp.sec,

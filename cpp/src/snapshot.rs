@@ -141,7 +141,15 @@ impl Snapshot {
         // can be.
         let mut made = [[0; 3]; CAPACITY];
         let mut scenes = 0;
+        // An interface that had too many scenes is counted first: it likely still has, and
+        // then no answer is worth working out.
+        let had_too_many = self.scenes.load(Ordering::Relaxed) == TOO_MANY;
         if let Some(view) = view {
+            if had_too_many && view.scenes().nth(CAPACITY).is_some() {
+                scenes = CAPACITY + 1;
+            }
+        }
+        if let Some(view) = view.filter(|_| scenes == 0) {
             for (id, _) in view.scenes() {
                 let Some(entry) = made.get_mut(scenes) else {
                     scenes = CAPACITY + 1;

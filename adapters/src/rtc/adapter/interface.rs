@@ -3,7 +3,7 @@
 
 use crate::rtc::{
     AutoModeRequest, AutoModeResponse, AutoModeStatus, Binding, CooperateCommandsRequest,
-    CooperateCommandsResponse, CooperateStatusArray, RtcError, StatusReport,
+    CooperateCommandsResponse, CooperateStatus, CooperateStatusArray, RtcError, StatusReport,
 };
 use crate::Time;
 use cooperation::{
@@ -125,11 +125,16 @@ impl<'a> View<'a> {
     pub fn cooperate_status_array(&self, stamp: Time) -> CooperateStatusArray {
         CooperateStatusArray {
             stamp,
-            statuses: self
-                .scenes()
-                .map(|(id, scene)| cooperate_status(self.binding, id, scene, self.state, stamp))
-                .collect(),
+            statuses: self.cooperate_statuses(stamp).collect(),
         }
+    }
+
+    /// The statuses of [`cooperate_status_array`](Self::cooperate_status_array), one by one,
+    /// for a caller that builds its own array.
+    pub fn cooperate_statuses(&self, stamp: Time) -> impl Iterator<Item = CooperateStatus> + 'a {
+        let (binding, state) = (self.binding, self.state);
+        self.scenes()
+            .map(move |(id, scene)| cooperate_status(binding, id, scene, state, stamp))
     }
 
     /// Upstream's auto-mode status: on when the interface's module policy is optional (every

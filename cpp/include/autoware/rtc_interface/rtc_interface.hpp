@@ -192,7 +192,9 @@ public:
   {
     CooperateStatusArray array;
     array.stamp = detail::time_of(detail::stamp_of(stamp));
-    for (const auto & s : core_.statuses(detail::stamp_of(stamp))) {
+    const auto statuses = core_.statuses(detail::stamp_of(stamp));
+    array.statuses.reserve(statuses.size());
+    for (const auto & s : statuses) {
       CooperateStatus status;
       status.stamp = detail::time_of(s.stamp);
       status.uuid = detail::uuid_of(s.uuid);
