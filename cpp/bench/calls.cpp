@@ -1,5 +1,6 @@
 // Per-call cost of the C++ class's methods (docs/performance.md, "The C++ RTC interface"), at
-// 10, 100 and 1,000 live scenes in one interface, beside two baselines measured in the same
+// 1, 3, 10, 100 and 1,000 live scenes in one interface, and of a planning cycle in upstream's
+// velocity planner's call order (`planningCycle`), beside two baselines measured in the same
 // run: the same calls made in Rust on the Rust side of the bridge (no C++ boundary), and an
 // upstream-style registry (a vector searched linearly under a mutex, as `rtc_interface` keeps
 // its statuses), written here only to be measured. Built by `tools/cpp`; run it by hand:
