@@ -487,6 +487,10 @@ impl<V> ExactSizeIterator for Iter<'_, V> {}
 
 impl<V: PartialEq> PartialEq for IdTable<V> {
     fn eq(&self, other: &Self) -> bool {
+        if !self.is_large() && !other.is_large() {
+            // Both small: each one's entries are in identifier order already.
+            return self.entries == other.entries;
+        }
         self.len() == other.len() && self.iter().eq(other.iter())
     }
 }

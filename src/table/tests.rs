@@ -49,7 +49,7 @@ fn constant() -> Layout {
 
 /// Applies `ops` to a table laid out as `layout` and to a `BTreeMap`, and checks that they
 /// answer alike, that the table stays consistent, and that it equals (and hashes as) a
-/// table built afresh from its entries, in any layout.
+/// table built afresh from its entries, in any layout, and no table with other entries.
 fn behaves_as_an_ordered_map_with(layout: Layout, ops: &[Op]) -> Result<(), TestCaseError> {
     let mut table = IdTable::<u32>::with(layout);
     let mut model = BTreeMap::new();
@@ -74,6 +74,17 @@ fn behaves_as_an_ordered_map_with(layout: Layout, ops: &[Op]) -> Result<(), Test
     let afresh: IdTable<u32> = expected.iter().copied().collect();
     prop_assert_eq!(&afresh, &table);
     prop_assert_eq!(fingerprint(&afresh), fingerprint(&table));
+    // Equality is by contents in every pair of layouts: one value changed, or one entry
+    // fewer, is another table.
+    if let Some(&(first, value)) = expected.first() {
+        let changed: IdTable<u32> = expected
+            .iter()
+            .map(|&(k, v)| (k, if k == first { value.wrapping_add(1) } else { v }))
+            .collect();
+        prop_assert_ne!(&changed, &table);
+        let fewer: IdTable<u32> = expected.iter().copied().skip(1).collect();
+        prop_assert_ne!(&fewer, &table);
+    }
     let relaid = afresh.relaid(TableLayout::Colliding);
     prop_assert!(relaid.is_consistent());
     prop_assert_eq!(&relaid, &table);

@@ -211,14 +211,13 @@ pub(super) fn observe(
 
     let scenes_changed = old.scenes().ne(core.scenes());
     let policies_changed = old.policies().ne(core.policies());
-    let kept: Vec<_> = core
-        .scenes()
-        .filter_map(|(id, new)| old.scene(id).map(|old| (id, old, new)))
-        .collect();
+    // The scenes live before and after, walked again where needed rather than collected.
+    let kept = || {
+        core.scenes()
+            .filter_map(|(id, new)| old.scene(id).map(|old| (id, old, new)))
+    };
     if rule != Some(Rule::CommandApply) {
-        let changed = kept
-            .iter()
-            .any(|(_, o, n)| o.operator_decision() != n.operator_decision());
+        let changed = kept().any(|(_, o, n)| o.operator_decision() != n.operator_decision());
         broken.set(Broken::OPERATOR_BY_OTHER, changed);
     }
     if rule != Some(Rule::PolicySet) {
@@ -234,7 +233,7 @@ pub(super) fn observe(
             let spilled = !same_ids
                 || policies_changed
                 || old.retired_oldest_first().ne(core.retired_oldest_first())
-                || kept.iter().any(|(id, o, n)| {
+                || kept().any(|(id, o, n)| {
                     let operator_moved = o.operator_decision() != n.operator_decision();
                     let rest_moved = o.phase() != n.phase()
                         || o.module_decision() != n.module_decision()
@@ -242,7 +241,7 @@ pub(super) fn observe(
                         || o.age_ms() != n.age_ms()
                         || o.geometry() != n.geometry()
                         || o.module() != n.module();
-                    rest_moved || (operator_moved && decision_of(*id).is_none())
+                    rest_moved || (operator_moved && decision_of(id).is_none())
                 });
             broken.set(Broken::COMMAND_SPILLED, spilled);
             let missed = commands.iter().any(|c| {

@@ -76,10 +76,11 @@ impl Snapshot {
                 .policies()
                 .map(|p| (p.module, p.policy))
                 .eq(self.policies.iter().copied())
+            && state.scene_count() == self.scenes.len()
             && state
                 .scenes()
-                .map(|(id, s)| (id, record(s)))
-                .eq(self.scenes.iter().cloned())
+                .zip(&self.scenes)
+                .all(|((id, scene), (listed, record))| id == *listed && record.is(scene))
             && state
                 .retired_oldest_first()
                 .eq(self.retired.iter().copied())
@@ -131,6 +132,30 @@ impl Snapshot {
 }
 
 /// A live scene's variables, read through the library's queries.
+impl SceneRecord {
+    /// Whether `scene` is this record, every field compared where it lies (no record is built).
+    fn is(&self, scene: &Scene) -> bool {
+        let Self {
+            module,
+            phase,
+            module_decision,
+            operator_decision,
+            requested,
+            age_ms,
+            geometry,
+            detail,
+        } = self;
+        *module == scene.module()
+            && *phase == scene.phase()
+            && *module_decision == scene.module_decision()
+            && *operator_decision == scene.operator_decision()
+            && *requested == scene.is_requested()
+            && *age_ms == scene.age_ms()
+            && geometry == scene.geometry()
+            && detail == scene.detail()
+    }
+}
+
 fn record(scene: &Scene) -> SceneRecord {
     SceneRecord {
         module: scene.module(),
