@@ -101,4 +101,4 @@ pub use msg::{
     CooperateCommandsRequest, CooperateCommandsResponse, CooperateResponse, CooperateStatus,
     CooperateStatusArray, Lifecycle, Module, ParsedStatus, Uuid,
 };
-pub use report::StatusReport;
+pub use report::{StatusReport, Transitions};

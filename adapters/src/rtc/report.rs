@@ -1,6 +1,8 @@
 //! A scene's status as its owner reports it, parsed: what `updateCooperateStatus` takes.
 
-use cooperation::{Phase, SceneId, Sequence};
+use std::ops::Deref;
+
+use cooperation::{Phase, SceneId, Sequence, Transition};
 
 use super::{CooperateStatus, FieldError};
 
@@ -90,5 +92,82 @@ impl CooperateStatus {
             requested: self.requested,
             sequence: None,
         })
+    }
+}
+
+/// What one status report did to the core ([`Interface::update_cooperate_status`]): one
+/// transition, or two when it registered a scene already past waiting (its registration, then
+/// its update). A report of a live scene, a planning cycle's usual call, allocates nothing for
+/// its answer. Read it as a slice.
+///
+/// [`Interface::update_cooperate_status`]: super::Interface::update_cooperate_status
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Transitions(Held);
+
+#[derive(Clone, PartialEq, Eq, Debug)]
+enum Held {
+    One(Transition),
+    Several(Vec<Transition>),
+}
+
+impl From<Transition> for Transitions {
+    fn from(transition: Transition) -> Self {
+        Self(Held::One(transition))
+    }
+}
+
+impl From<Vec<Transition>> for Transitions {
+    fn from(transitions: Vec<Transition>) -> Self {
+        Self(Held::Several(transitions))
+    }
+}
+
+impl From<Transitions> for Vec<Transition> {
+    fn from(transitions: Transitions) -> Self {
+        match transitions.0 {
+            Held::One(transition) => vec![transition],
+            Held::Several(transitions) => transitions,
+        }
+    }
+}
+
+impl Deref for Transitions {
+    type Target = [Transition];
+
+    fn deref(&self) -> &[Transition] {
+        match &self.0 {
+            Held::One(transition) => std::slice::from_ref(transition),
+            Held::Several(transitions) => transitions,
+        }
+    }
+}
+
+impl<'a> IntoIterator for &'a Transitions {
+    type Item = &'a Transition;
+    type IntoIter = std::slice::Iter<'a, Transition>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use cooperation::Rule;
+
+    use super::*;
+
+    /// One transition or several read as the same slice and give the same vector back.
+    #[test]
+    fn one_or_several_transitions_read_alike() {
+        let one = Transitions::from(Transition {
+            rule: Rule::OwnerUpdate,
+            retired: Vec::new(),
+        });
+        let several = Transitions::from(vec![one[0].clone()]);
+        assert_eq!(*one, *several);
+        assert_eq!(one.len(), 1);
+        assert_eq!((&one).into_iter().count(), 1);
+        assert_eq!(Vec::from(one), Vec::from(several));
     }
 }

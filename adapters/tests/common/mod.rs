@@ -8,7 +8,7 @@ mod fixtures;
 pub use fixtures::*;
 
 use cooperation::*;
-use cooperation_adapters::rtc::{self, Interface, RtcError, StatusReport};
+use cooperation_adapters::rtc::{self, Interface, RtcError, StatusReport, Transitions};
 pub use cooperation_adapters::Time;
 
 /// Upstream's `updateCooperateStatus` with its positional arguments, the lifecycle state as a
@@ -25,7 +25,7 @@ pub trait UpdateAsUpstream {
         start_distance: f32,
         finish_distance: f32,
         requested: bool,
-    ) -> Result<Vec<Transition>, RtcError>;
+    ) -> Result<Transitions, RtcError>;
 
     /// The report, its sequence stated.
     #[allow(clippy::too_many_arguments)] // Upstream's, in its order, and the sequence.
@@ -38,7 +38,7 @@ pub trait UpdateAsUpstream {
         start_distance: f32,
         finish_distance: f32,
         requested: bool,
-    ) -> Result<Vec<Transition>, RtcError>;
+    ) -> Result<Transitions, RtcError>;
 }
 
 /// The report upstream's arguments make.
@@ -69,7 +69,7 @@ impl UpdateAsUpstream for Interface<'_> {
         start_distance: f32,
         finish_distance: f32,
         requested: bool,
-    ) -> Result<Vec<Transition>, RtcError> {
+    ) -> Result<Transitions, RtcError> {
         let report = upstream_report(
             id,
             None,
@@ -90,7 +90,7 @@ impl UpdateAsUpstream for Interface<'_> {
         start_distance: f32,
         finish_distance: f32,
         requested: bool,
-    ) -> Result<Vec<Transition>, RtcError> {
+    ) -> Result<Transitions, RtcError> {
         let report = upstream_report(
             id,
             Some(sequence),

@@ -31,6 +31,22 @@ fn an_unknown_scene_reported_running_registers_with_its_fields() {
     assert_eq!(status.stamp, Time::new(5, 0));
 }
 
+/// The answer lists the transitions: a new scene reported running registers and then runs,
+/// one reported waiting only registers, and a report of a live scene is its one update.
+#[test]
+fn a_report_answers_the_transitions_it_made() {
+    let mut fx = Fixture::new(false);
+    let running = fx.report(LEFT, id(1), false, rtc::Lifecycle::RUNNING);
+    assert_eq!(
+        running.expect("registers"),
+        [Rule::RegisterNew, Rule::OwnerUpdate]
+    );
+    let waiting = fx.report(LEFT, id(2), true, rtc::Lifecycle::WAITING_FOR_EXECUTION);
+    assert_eq!(waiting.expect("registers"), [Rule::RegisterNew]);
+    let update = fx.report(LEFT, id(1), true, rtc::Lifecycle::RUNNING);
+    assert_eq!(update.expect("updates"), [Rule::OwnerUpdate]);
+}
+
 /// §6.2: a forbidden transition changes nothing at all, and says so.
 #[test]
 fn a_forbidden_transition_changes_nothing_and_is_reported() {

@@ -4,6 +4,7 @@
 use crate::rtc::{
     AutoModeRequest, AutoModeResponse, AutoModeStatus, Binding, CooperateCommandsRequest,
     CooperateCommandsResponse, CooperateStatus, CooperateStatusArray, RtcError, StatusReport,
+    Transitions,
 };
 use crate::Time;
 use cooperation::{
@@ -50,7 +51,8 @@ impl<'a> View<'a> {
     /// `Ok` unless `id` is live but not this interface's (`[COOP-DEV-ID-REUSE.1]`). An identifier
     /// that is not live is left to the core to judge.
     fn check_owned(&self, id: SceneId) -> Result<(), RtcError> {
-        if self.state.scene(id).is_none() || self.routes.get(&id) == Some(&self.index) {
+        // This interface's own scene, the usual case, is found by its route alone.
+        if self.routes.get(&id) == Some(&self.index) || self.state.scene(id).is_none() {
             return Ok(());
         }
         let owner = self
@@ -200,7 +202,7 @@ impl Interface<'_> {
     pub fn update_cooperate_status(
         &mut self,
         status: &StatusReport,
-    ) -> Result<Vec<Transition>, RtcError> {
+    ) -> Result<Transitions, RtcError> {
         let id = status.id;
         // [COOP-DEV-SEQUENCE.1]
         let stated = status
@@ -233,7 +235,7 @@ impl Interface<'_> {
                 phase,
                 report,
             };
-            return Ok(vec![self.state.apply(&update)?]);
+            return Ok(self.state.apply(&update)?.into());
         }
         // [COOP-DEV-SEQUENCE.1]
         let module = match stated {
@@ -270,7 +272,7 @@ impl Interface<'_> {
         };
         // [COOP-DEV-IMPLICIT-REGISTER.1] [COOP-DEV-REGISTER-PHASE.1]
         let transitions = if phase == Phase::Waiting {
-            vec![self.state.apply(&register)?]
+            Transitions::from(self.state.apply(&register)?)
         } else {
             let update = Input::Update {
                 id,
@@ -288,6 +290,7 @@ impl Interface<'_> {
                         rejection: refused.rejection,
                     },
                 })?
+                .into()
         };
         prune(self.routes, self.state);
         self.routes.insert(id, self.index);

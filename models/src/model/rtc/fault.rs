@@ -129,7 +129,7 @@ impl RtcFault {
                 let result = module
                     .ok_or(Rejection::OwnerUnknown { id: *id })
                     .and_then(|module| core.apply(&Input::Remove { id: *id, module }));
-                Said::transitions(Kind::Remove, result.map(|t| vec![t]).map_err(Into::into))
+                Said::transitions(Kind::Remove, result.map_err(Into::into))
             }
             (
                 Self::SequenceIgnored,
@@ -169,7 +169,7 @@ impl RtcFault {
                 match first_module(model, *interface) {
                     Some(module) if own && core.scene(*id).is_some() => {
                         let result = core.apply(&Input::Remove { id: *id, module });
-                        Said::transitions(Kind::Remove, result.map(|t| vec![t]).map_err(Into::into))
+                        Said::transitions(Kind::Remove, result.map_err(Into::into))
                     }
                     _ => model.invoke(core, rtc, call),
                 }

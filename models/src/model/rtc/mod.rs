@@ -338,7 +338,7 @@ impl RtcModel {
                 let result = rtc
                     .interface(core, name(interface))
                     .and_then(|mut it| it.remove_cooperate_status(*id));
-                Said::transitions(kind, result.map(|t| vec![t]))
+                Said::transitions(kind, result)
             }
             Call::Clear { interface } => {
                 match rtc
@@ -382,14 +382,14 @@ impl RtcModel {
                 );
                 Said::auto_mode(kind, reply.result, reply.response.success)
             }
-            Call::Tick => Said::transitions(kind, rtc.tick(core, 1).map(|t| vec![t])),
+            Call::Tick => Said::transitions(kind, rtc.tick(core, 1)),
             Call::SetPolicy { module, policy } => {
                 let policies = vec![PolicySetting {
                     module: *module,
                     policy: *policy,
                 }];
                 let result = core.apply(&Input::SetPolicies { policies });
-                Said::transitions(kind, result.map(|t| vec![t]).map_err(Into::into))
+                Said::transitions(kind, result.map_err(Into::into))
             }
         }
     }

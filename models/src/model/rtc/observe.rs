@@ -4,7 +4,7 @@
 use cooperation::{
     Module, OperatorDecision, Phase, RetireReason, Rule, SceneId, Sequence, State, Transition,
 };
-use cooperation_adapters::rtc::{self, CooperateResponse, Reply, RtcError};
+use cooperation_adapters::rtc::{self, CooperateResponse, Reply, RtcError, Transitions};
 
 use super::call::{Call, Order, UNDEFINED_COMMAND, UNDEFINED_MODULE, UNDEFINED_STATE};
 use super::step::{Answer, Broken, Interface, Kind, Outcome, Refusal, RtcStep};
@@ -50,9 +50,10 @@ impl Said {
 
     /// A call answering these transitions, or its refusal.
     #[must_use]
-    pub fn transitions(kind: Kind, result: Result<Vec<Transition>, RtcError>) -> Self {
+    pub fn transitions<T: Into<Transitions>>(kind: Kind, result: Result<T, RtcError>) -> Self {
         match result {
             Ok(transitions) => {
+                let transitions: Transitions = transitions.into();
                 let rule = |n: usize| transitions.get(n).map(|t| t.rule);
                 let mut said = Self::of(kind, Answer::Accepted(rule(0), rule(1)));
                 said.ids = transitions.iter().flat_map(|t| t.retired.clone()).collect();
@@ -65,7 +66,7 @@ impl Said {
     /// A command service's reply.
     #[must_use]
     pub fn commands(kind: Kind, reply: Reply<rtc::CooperateCommandsResponse>) -> Self {
-        let mut said = Self::transitions(kind, reply.result.map(|t| vec![t]));
+        let mut said = Self::transitions(kind, reply.result);
         said.responses = reply.response.responses;
         said
     }
@@ -73,7 +74,7 @@ impl Said {
     /// An auto-mode service's reply.
     #[must_use]
     pub fn auto_mode(kind: Kind, result: Result<Transition, RtcError>, success: bool) -> Self {
-        let mut said = Self::transitions(kind, result.map(|t| vec![t]));
+        let mut said = Self::transitions(kind, result);
         said.success = Some(success);
         said
     }
