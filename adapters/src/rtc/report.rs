@@ -97,8 +97,8 @@ impl CooperateStatus {
 
 /// What one status report did to the core ([`Interface::update_cooperate_status`]): one
 /// transition, or two when it registered a scene already past waiting (its registration, then
-/// its update). A report of a live scene, a planning cycle's usual call, allocates nothing for
-/// its answer. Read it as a slice.
+/// its update). A report of a live scene, a planning cycle's usual call, answers its one
+/// transition without a vector of its own. Read it as a slice.
 ///
 /// [`Interface::update_cooperate_status`]: super::Interface::update_cooperate_status
 #[derive(Clone, PartialEq, Eq, Debug)]
