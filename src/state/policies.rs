@@ -18,7 +18,31 @@ pub(super) struct Policies {
     /// Bit `i` is set when `builtin[i]` holds a policy: listing skips the empty slots, most of
     /// them, without reading each.
     configured: u64,
-    extensions: Arc<Vec<(Module, Policy)>>,
+    extensions: Arc<Vec<Extension>>,
+}
+
+/// A module with an extension name, its policy, and its place among the built-in slots.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct Extension {
+    module: Module,
+    policy: Policy,
+    /// How many built-in slots hold a module that comes before this one: listing puts it
+    /// before the slot of that index and after those below, comparing numbers, not names.
+    /// Fixed by the module, so it is worked out once, when the policies are made.
+    before: usize,
+}
+
+impl Extension {
+    fn new(module: Module, policy: Policy) -> Self {
+        let before = (0..Module::COUNT)
+            .filter(|&index| Module::at_index(index).is_some_and(|builtin| builtin < module))
+            .count();
+        Self {
+            module,
+            policy,
+            before,
+        }
+    }
 }
 
 // One bit of `configured` for each built-in module.
@@ -31,10 +55,10 @@ impl Policies {
             Some(index) => self.builtin.get(index).copied().flatten(),
             None => self
                 .extensions
-                .binary_search_by_key(&module, |&(listed, _)| listed)
+                .binary_search_by_key(&module, |listed| listed.module)
                 .ok()
                 .and_then(|at| self.extensions.get(at))
-                .map(|&(_, policy)| policy),
+                .map(|listed| listed.policy),
         }
     }
 
@@ -46,11 +70,11 @@ impl Policies {
                 // Found in the shared list first: only a policy that is there is unshared.
                 let at = self
                     .extensions
-                    .binary_search_by_key(&module, |&(listed, _)| listed)
+                    .binary_search_by_key(&module, |listed| listed.module)
                     .ok()?;
                 Arc::make_mut(&mut self.extensions)
                     .get_mut(at)
-                    .map(|(_, policy)| policy)
+                    .map(|listed| &mut listed.policy)
             }
         }
     }
@@ -58,24 +82,19 @@ impl Policies {
     /// Every module that supports cooperation and its policy, in module order.
     pub(super) fn iter(&self) -> impl Iterator<Item = (Module, Policy)> + '_ {
         let mut configured = self.configured;
-        let mut builtin = core::iter::from_fn(move || {
-            while configured != 0 {
-                let index = configured.trailing_zeros() as usize;
-                configured &= configured - 1;
-                if let (Some(module), Some(Some(policy))) =
-                    (Module::at_index(index), self.builtin.get(index))
-                {
-                    return Some((module, *policy));
-                }
+        let mut extensions = self.extensions.iter().peekable();
+        core::iter::from_fn(move || loop {
+            let slot = (configured != 0).then(|| configured.trailing_zeros() as usize);
+            if let Some(extension) = extensions.next_if(|e| slot.map_or(true, |i| e.before <= i)) {
+                return Some((extension.module, extension.policy));
             }
-            None
-        })
-        .peekable();
-        let mut extensions = self.extensions.iter().copied().peekable();
-        core::iter::from_fn(move || match (builtin.peek(), extensions.peek()) {
-            (Some(&(a, _)), Some(&(b, _))) if b < a => extensions.next(),
-            (Some(_), _) => builtin.next(),
-            (None, _) => extensions.next(),
+            let index = slot?;
+            configured &= configured - 1;
+            if let (Some(module), Some(Some(policy))) =
+                (Module::at_index(index), self.builtin.get(index))
+            {
+                return Some((module, *policy));
+            }
         })
     }
 }
@@ -94,13 +113,13 @@ impl FromIterator<(Module, Policy)> for Policies {
                         configured |= 1 << index;
                     }
                 }
-                None => extensions.push((module, policy)),
+                None => extensions.push(Extension::new(module, policy)),
             }
         }
         // A stable sort keeps equal modules in input order; the last of each run stays.
-        extensions.sort_by_key(|&(module, _)| module);
+        extensions.sort_by_key(|e| e.module);
         extensions.reverse();
-        extensions.dedup_by_key(|&mut (module, _)| module);
+        extensions.dedup_by_key(|e| e.module);
         extensions.reverse();
         Self {
             builtin,
@@ -154,6 +173,42 @@ mod tests {
         assert_eq!(policies.get(valet), Some(Policy::Required));
         assert_eq!(policies.get(extension("valet", "approach")), None);
         assert_eq!(policies.get(Module::new(Behavior::Merge)), None);
+    }
+
+    /// Every built-in module, and extension modules placed before, between and after them
+    /// (extension behaviours, and built-in behaviours with extension sequences), list in
+    /// module order, whichever built-in slots are configured.
+    #[test]
+    fn extensions_list_among_the_built_in_modules_in_module_order() {
+        let builtins: Vec<Module> = (0..Module::COUNT).filter_map(Module::at_index).collect();
+        let mut extensions = vec![
+            extension("aaa", ""),
+            extension("zzz", ""),
+            extension("m", "q"),
+        ];
+        for module in &builtins {
+            for sequence in ["a", "m", "zz"] {
+                extensions.push(Module::with_sequence(
+                    module.behavior,
+                    sequence.parse().unwrap(),
+                ));
+            }
+        }
+        for configured in [1, 2, 3, 7] {
+            let modules: std::collections::BTreeSet<Module> = builtins
+                .iter()
+                .step_by(configured)
+                .chain(&extensions)
+                .copied()
+                .collect();
+            let policies: Policies = modules.iter().map(|&m| (m, Policy::Optional)).collect();
+            let listed: Vec<Module> = policies.iter().map(|(module, _)| module).collect();
+            assert_eq!(
+                listed,
+                modules.iter().copied().collect::<Vec<_>>(),
+                "every {configured}th slot"
+            );
+        }
     }
 
     #[test]
