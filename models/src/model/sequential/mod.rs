@@ -35,15 +35,17 @@ pub use ghost::{Broken, Ghost};
 pub use properties::{properties, rule_property, INVARIANTS};
 pub use step::{identity, Names, Step};
 
-/// A user-extension module: behaviour `drop-off`, sequence `approach`. The core keeps an
+/// A user-extension module: behaviour `junction`, sequence `approach`. The core keeps an
 /// extension module's policy apart from the built-in ones' (a sorted list, not a slot per
-/// module), so every model from two modules on holds one of each; its name sorts between
-/// `avoidance/change` and `lane-change`, so the module order `get_policies` lists
-/// (`[COOP-POL-GET.2]`, checked in every state) interleaves the two kinds.
+/// module), so every model from two modules on holds one of each. Its name sorts directly
+/// before `lane-change`, the first configured built-in module, with no built-in module between
+/// them, so the module order `get_policies` lists (`[COOP-POL-GET.2]`, checked in every state)
+/// decides between the two kinds at the one place where an extension and a configured built-in
+/// slot meet: a listing that put the extension one slot late would fail the check.
 // Evaluated when compiling: a name the core refuses fails the build, it cannot panic at run
 // time.
 #[allow(clippy::panic)]
-pub const EXTENSION: Module = match (Behavior::named("drop-off"), Sequence::named("approach")) {
+pub const EXTENSION: Module = match (Behavior::named("junction"), Sequence::named("approach")) {
     (Ok(behavior), Ok(sequence)) => Module::with_sequence(behavior, sequence),
     _ => panic!("not a valid extension name"),
 };
