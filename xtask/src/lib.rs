@@ -7,11 +7,13 @@
 //!   scenarios.
 //! - [`counts`]: `docs/counts.md`, every pinned state count, and the check that no other page
 //!   repeats one.
+//! - [`names`]: the check that every `Type::item` the pages name is defined in the sources.
 //! - [`reach`]: the reach table of `docs/reach.md`, measured by running the checker, and
 //!   the check that it agrees with the pins.
 
 pub mod counts;
 pub mod diagrams;
+pub mod names;
 pub mod reach;
 pub mod traceability;
 pub mod witnesses;

@@ -3,9 +3,10 @@
 //! ```text
 //! cargo xtask docs [--check]          the spec's diagrams, docs/traceability.md,
 //!                                     docs/witnesses.md and docs/counts.md; with --check,
-//!                                     only compare, and also check that no page repeats a
-//!                                     pinned count and that the reach table agrees with
-//!                                     the pins
+//!                                     only compare; either way, also check that no page
+//!                                     repeats a pinned count, that the reach table agrees
+//!                                     with the pins, and that every `Type::item` a page
+//!                                     names is defined in the sources
 //! cargo xtask reach [--full] [--only BOUNDS]
 //!                                     measure the reach table of docs/reach.md
 //! ```
@@ -15,7 +16,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use xtask::{counts, diagrams, reach, traceability, witnesses};
+use xtask::{counts, diagrams, names, reach, traceability, witnesses};
 
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
@@ -75,6 +76,7 @@ fn docs(args: &[String]) -> Result<bool, String> {
     let problems: Vec<String> = counts::repeated(&root)
         .into_iter()
         .chain(reach::disagreements(&performance))
+        .chain(names::unknown(&root))
         .collect();
     for problem in &problems {
         println!("{problem}");

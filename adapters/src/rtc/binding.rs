@@ -124,7 +124,7 @@ impl Binding {
     /// An RTC status cannot say whether an avoidance shifts out or returns, but the module that
     /// owns the interface knows it for each scene (one per shift line), so the avoidance
     /// interfaces bind both sequences and their owner states each scene's
-    /// (`Interface::update_cooperate_status_in`, `[COOP-DEV-SEQUENCE.1]`); `avoidance/change` and
+    /// (`StatusReport::in_sequence`, `[COOP-DEV-SEQUENCE.1]`); `avoidance/change` and
     /// `avoidance/return` then have policies of their own. `occlusion_spot` has no AD API
     /// behaviour and `stop_line` no RTC scenes; bind them yourself if you need them.
     #[must_use]
