@@ -16,6 +16,8 @@
 //! - [`sync`]: the planning modules' service of both nodes; [`clock`]: the nodes' one clock.
 //! - [`engine`]: the service engine every host drives: each door's request answered time
 //!   first, what the streams publish decided once, the core built once with the same defaults.
+//! - [`refusals`]: the log of what a node refuses from its peers, one line and one summary a
+//!   period.
 //! - [`Host`] and [`Shared`]: the core with the RTC interfaces' routing and the time it was last
 //!   told, as one value, and the engine over it behind one lock, for a process serving the core
 //!   to several callers (`cooperation-server`, `cooperation-dds`, a C++ planner).
@@ -65,6 +67,7 @@ pub mod dds;
 pub mod engine;
 mod host;
 mod path;
+pub mod refusals;
 pub mod relay;
 pub mod rtc;
 #[doc = include_str!("../docs/settings.md")]

@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use cooperation_adapters::cdr;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
 use cooperation_adapters::engine::{Publication, Request};
+use cooperation_adapters::refusals::Refusals;
 use cooperation_adapters::wire;
 use rustdds::mio1::{Events, Interest, Poll, Token};
 use rustdds::no_key::{DataReader, DataWriter};
@@ -30,6 +31,27 @@ const REPLY_POLL: Duration = Duration::from_millis(2);
 
 /// The longest the poll sleeps, whatever the publication interval: how soon a stop is seen.
 const STOP_POLL: Duration = Duration::from_millis(100);
+
+/// A peer's message, request or status that `source` (a service, topic or interface) refused,
+/// logged whole if it is the first of the period of `refusals`, else counted for its summary
+/// (`docs/ros2.md`, *Logs*).
+pub(crate) fn refused(
+    refusals: &Refusals,
+    source: &str,
+    what: &str,
+    error: &dyn core::fmt::Display,
+) {
+    if refusals.refused(source, &format!("{what} ({source}): {error}")) {
+        tracing::warn!(source, %error, "{what}");
+    }
+}
+
+/// Sums up the refusals of a period that has passed at `reading_ns`, if any were counted.
+pub(crate) fn sum_up(refusals: &Refusals, reading_ns: i64) {
+    if let Some(summary) = refusals.poll(reading_ns) {
+        tracing::warn!("{summary}");
+    }
+}
 
 /// The participant a DDS entity belongs to: its GUID's prefix.
 pub(crate) fn participant_of(guid: GUID) -> [u8; 12] {
@@ -219,8 +241,12 @@ impl Server {
     /// The next request that can be answered: the participant of the client that sent it, its
     /// header, and what it asks ([`Request::Malformed`] for one that does not read, logged).
     /// `None` when none waits; a request too short for its headers is logged and dropped, and a
-    /// failed read is logged and tried again on the next turn.
-    pub(crate) fn next_request(&mut self) -> Option<([u8; 12], RequestHeader, Request)> {
+    /// failed read is logged and tried again on the next turn. A peer's refused request is
+    /// logged through `refusals`.
+    pub(crate) fn next_request(
+        &mut self,
+        refusals: &Refusals,
+    ) -> Option<([u8; 12], RequestHeader, Request)> {
         let name = self.endpoint.name();
         loop {
             let sample = match self.requests.take_next_sample() {
@@ -236,11 +262,11 @@ impl Server {
             match self.endpoint.read(&bytes) {
                 Ok((header, request)) => {
                     if let Request::Malformed(_, error) = &request {
-                        tracing::warn!(service = name, %error, "a malformed request refused");
+                        refused(refusals, name, "a malformed request refused", error);
                     }
                     return Some((client, header, request));
                 }
-                Err(error) => tracing::warn!(service = name, %error, "a request left unanswered"),
+                Err(error) => refused(refusals, name, "a request left unanswered", &error),
             }
         }
     }

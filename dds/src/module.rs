@@ -14,8 +14,9 @@ use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::policy::Durability;
 use rustdds::{DataReaderStatus, DataWriterStatus, RTPSEntity, StatusEvented, GUID};
 
-use crate::entities::{qos, services_qos, Participant};
+use crate::entities::{qos, refused, services_qos, Participant};
 use crate::raw::{Raw, RawAdapter};
+use cooperation_adapters::refusals::Refusals;
 
 /// Which of the interface's two services.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -123,7 +124,11 @@ impl Client {
 
     /// Every reply to one of this client's calls: the call and the answer. Replies to other
     /// clients are passed over; one that does not read is logged and dropped.
-    fn answers(&mut self, endpoints: &ModuleEndpoints) -> Vec<(CallId, ModuleAnswer)> {
+    fn answers(
+        &mut self,
+        endpoints: &ModuleEndpoints,
+        refusals: &Refusals,
+    ) -> Vec<(CallId, ModuleAnswer)> {
         let mut answers = Vec::new();
         loop {
             let bytes = match self.replies.take_next_sample() {
@@ -146,7 +151,12 @@ impl Client {
                 }
                 Ok(_) => {}
                 Err(error) => {
-                    tracing::warn!(service = %self.name, %error, "a reply that does not read dropped");
+                    refused(
+                        refusals,
+                        &self.name,
+                        "a reply that does not read dropped",
+                        &error,
+                    );
                 }
             }
         }
@@ -238,23 +248,24 @@ impl Module {
 
     /// What arrived since the last turn, in order of kind: status arrays in the order they
     /// came, the newest auto-mode status, the services' answers. A message that does not read
-    /// is logged and dropped.
-    pub(crate) fn heard(&mut self) -> Vec<Heard> {
+    /// is logged through `refusals` and dropped.
+    pub(crate) fn heard(&mut self, refusals: &Refusals) -> Vec<Heard> {
         let name = self.endpoints.name().to_owned();
-        let mut heard: Vec<Heard> = read_all(&mut self.statuses, &name, "statuses")
+        let mut heard: Vec<Heard> = read_all(&mut self.statuses, &name, "statuses", refusals)
             .into_iter()
             .map(Heard::Statuses)
             .collect();
-        if let Some(status) = read_all::<AutoModeStatus>(&mut self.auto_mode, &name, "auto mode")
-            .into_iter()
-            .last()
+        if let Some(status) =
+            read_all::<AutoModeStatus>(&mut self.auto_mode, &name, "auto mode", refusals)
+                .into_iter()
+                .last()
         {
             heard.push(Heard::AutoMode(status));
         }
         for client in [&mut self.commands, &mut self.enable] {
             heard.extend(
                 client
-                    .answers(&self.endpoints)
+                    .answers(&self.endpoints, refusals)
                     .into_iter()
                     .map(|(call, answer)| Heard::Answer(call, answer)),
             );
@@ -267,15 +278,19 @@ fn read_all<T: serde::de::DeserializeOwned>(
     reader: &mut DataReader<Raw, RawAdapter>,
     interface: &str,
     what: &str,
+    refusals: &Refusals,
 ) -> Vec<T> {
     let mut messages = Vec::new();
     loop {
         match reader.take_next_sample() {
             Ok(Some(sample)) => match cdr::from_slice(&sample.into_value().0) {
                 Ok(message) => messages.push(message),
-                Err(error) => {
-                    tracing::warn!(interface, %error, "a message of {what} that does not read dropped");
-                }
+                Err(error) => refused(
+                    refusals,
+                    interface,
+                    &format!("a message of {what} that does not read dropped"),
+                    &error,
+                ),
             },
             Ok(None) => return messages,
             Err(error) => {

@@ -16,12 +16,13 @@ use std::time::Duration;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::Endpoint;
 use cooperation_adapters::engine::{self, Engine};
+use cooperation_adapters::refusals::{self, Refusals};
 use cooperation_adapters::Shared;
 use rustdds::mio1::{Events, Poll};
 use rustdds::DomainParticipant;
 
 pub use crate::entities::REPLY_WAIT;
-use crate::entities::{wait, Factors, Participant, Replies, Server};
+use crate::entities::{sum_up, wait, Factors, Participant, Replies, Server};
 use crate::graph::Distro;
 use crate::raw::{Raw, RawAdapter};
 
@@ -81,6 +82,8 @@ pub struct Node {
     servers: Vec<Server>,
     factors: Factors,
     replies: Replies,
+    /// The log of what the clients send that is refused.
+    refusals: Refusals,
     /// Kept for the life of the node: the graph's sample is transient-local.
     _graph: rustdds::no_key::DataWriter<Raw, RawAdapter>,
     /// Kept last: the entities above belong to it.
@@ -139,6 +142,7 @@ impl Node {
             servers,
             factors,
             replies: Replies::default(),
+            refusals: Refusals::new("source", "sources", refusals::PERIOD),
             _graph: graph,
             _participant: joined.participant,
         })
@@ -168,12 +172,16 @@ impl Node {
             )?;
             self.step();
         }
+        if let Some(summary) = self.refusals.end_period() {
+            tracing::warn!("{summary}");
+        }
         Ok(())
     }
 
     /// One turn: the matches, the requests, the replies due, the clock and the publications.
     fn step(&mut self) {
         let now = self.clock.now();
+        sum_up(&self.refusals, now.reading_ns);
         self.shared.update(|engine| engine.handle_timeout(now));
         for server in &mut self.servers {
             server.track_matches();
@@ -192,7 +200,7 @@ impl Node {
                 return;
             };
             let endpoint = server.endpoint;
-            let Some((client, header, incoming)) = server.next_request() else {
+            let Some((client, header, incoming)) = server.next_request(&self.refusals) else {
                 return;
             };
             let now = self.clock.now();

@@ -18,12 +18,13 @@ use std::time::Duration;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
 use cooperation_adapters::engine::{Engine, Now, Publication, Reply, Request};
+use cooperation_adapters::refusals::{self, Refusals};
 use cooperation_adapters::relay::{self, factors, ModuleAnswer, OperatorCall, Relay};
 use cooperation_adapters::wire::{self, Service};
 use rustdds::mio1::{Events, Interest, Poll, Token, Waker};
 use rustdds::{DomainParticipant, RTPSEntity};
 
-use crate::entities::{wait, Factors, Participant, Replies, Server};
+use crate::entities::{refused, sum_up, wait, Factors, Participant, Replies, Server};
 use crate::module::{Heard, Module};
 use crate::raw::{Raw, RawAdapter};
 use crate::Options;
@@ -100,20 +101,24 @@ impl Input {
     }
 
     /// Gives `stream` the newest array of each topic that came.
-    fn take(&mut self, stream: &mut factors::Stream, now: Now) {
-        if let Some(array) = newest(&mut self.velocity_reader, factors::VELOCITY_INPUT) {
+    fn take(&mut self, stream: &mut factors::Stream, now: Now, refusals: &Refusals) {
+        let velocity = newest(&mut self.velocity_reader, factors::VELOCITY_INPUT, refusals);
+        if let Some(array) = velocity {
             stream.take_velocity(array, now);
         }
-        if let Some(array) = newest(&mut self.steering_reader, factors::STEERING_INPUT) {
+        let steering = newest(&mut self.steering_reader, factors::STEERING_INPUT, refusals);
+        if let Some(array) = steering {
             stream.take_steering(array, now);
         }
     }
 }
 
-/// The newest message of `reader` that reads; one that does not is logged and dropped.
+/// The newest message of `reader` that reads; one that does not is logged through `refusals`
+/// and dropped.
 fn newest<T: serde::de::DeserializeOwned>(
     reader: &mut rustdds::no_key::DataReader<Raw, RawAdapter>,
     topic: &str,
+    refusals: &Refusals,
 ) -> Option<T> {
     let mut newest = None;
     loop {
@@ -121,7 +126,12 @@ fn newest<T: serde::de::DeserializeOwned>(
             Ok(Some(sample)) => match cooperation_adapters::cdr::from_slice(&sample.into_value().0)
             {
                 Ok(message) => newest = Some(message),
-                Err(error) => tracing::warn!(topic, %error, "a message that does not read dropped"),
+                Err(error) => refused(
+                    refusals,
+                    topic,
+                    "a message that does not read dropped",
+                    &error,
+                ),
             },
             Ok(None) => return newest,
             Err(error) => {
@@ -154,6 +164,8 @@ pub struct Stack {
     /// The interfaces whose status arrays are refused: the kind of reason last logged, and how
     /// many were refused for it since.
     refusing: BTreeMap<String, (std::mem::Discriminant<relay::ArrayError>, u64)>,
+    /// The log of what the modules and the operators' clients send that is refused.
+    refusals: Refusals,
     /// Kept for the life of the node: the graph's sample is transient-local.
     _graph: rustdds::no_key::DataWriter<Raw, RawAdapter>,
     /// Kept last: the entities above belong to it.
@@ -253,6 +265,7 @@ impl Stack {
             door_replies: Vec::new(),
             waker: Arc::new(waker),
             refusing: BTreeMap::new(),
+            refusals: Refusals::new("source", "sources", refusals::PERIOD),
             _graph: graph,
             _participant: joined.participant,
         })
@@ -292,6 +305,9 @@ impl Stack {
             wait(&mut self.poll, &mut events, busy, until_timeout)?;
             self.step();
         }
+        if let Some(summary) = self.refusals.end_period() {
+            tracing::warn!("{summary}");
+        }
         Ok(())
     }
 
@@ -299,6 +315,7 @@ impl Stack {
     /// operators' answers, the replies due and the publications.
     fn step(&mut self) {
         let now = self.clock.now();
+        sum_up(&self.refusals, now.reading_ns);
         self.relay.handle_timeout(now);
         for server in &mut self.servers {
             server.track_matches();
@@ -308,7 +325,7 @@ impl Stack {
                 continue;
             };
             let name = module.endpoints.name().to_owned();
-            for heard in module.heard() {
+            for heard in module.heard(&self.refusals) {
                 self.hear(&name, heard, now);
             }
         }
@@ -392,7 +409,7 @@ impl Stack {
 
     /// Publishes the factors when the one factor stream says (`[COOP-RELAY-FACTORS.1]`).
     fn publish(&mut self, now: Now) {
-        self.input.take(&mut self.stream, now);
+        self.input.take(&mut self.stream, now, &self.refusals);
         if let Some(publication) = self.relay.poll_publication(now) {
             self.stream.take_scenes(publication);
         }
@@ -419,7 +436,8 @@ impl Stack {
                         );
                     }
                     for (id, error) in &taken.refused {
-                        tracing::warn!(interface = name, scene = %id, %error, "status refused");
+                        let what = format!("the status of scene {id} refused");
+                        refused(&self.refusals, name, &what, error);
                     }
                 }
                 Err(error) => {
@@ -436,7 +454,7 @@ impl Stack {
             },
             Heard::AutoMode(status) => {
                 if let Err(error) = self.relay.take_auto_mode(name, &status, now) {
-                    tracing::warn!(interface = name, %error, "auto-mode status refused");
+                    refused(&self.refusals, name, "an auto-mode status refused", &error);
                 }
             }
             Heard::Answer(call, answer) => {
@@ -451,8 +469,10 @@ impl Stack {
 
     /// Takes every request waiting at server `index`.
     fn serve(&mut self, index: usize) {
-        while let Some((client, header, request)) =
-            self.servers.get_mut(index).and_then(Server::next_request)
+        while let Some((client, header, request)) = self
+            .servers
+            .get_mut(index)
+            .and_then(|server| server.next_request(&self.refusals))
         {
             self.take(
                 request,

@@ -308,7 +308,7 @@ async fn a_burst_of_refused_clients_is_summed_up_not_logged_one_by_one() {
             "HTTP/1.1 429 Too Many Requests"
         );
     }
-    logged("refused since the last refusal logged, from 1 address(es), 127.0.0.77; the last: a client refused: too many credentials the node does not have from this address: try again in 60 s").await;
+    logged("refused since the last refusal logged, from 1 address, 127.0.0.77; the last: a client refused: too many credentials the node does not have from this address: try again in 60 s").await;
     let text =
         String::from_utf8_lossy(&log().lock().unwrap_or_else(PoisonError::into_inner)).into_owned();
     let whole = text

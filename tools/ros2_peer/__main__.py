@@ -33,6 +33,7 @@ sys.path.insert(0, str(HERE.parent))
 from ros2_peer.checks_requests import (  # noqa: E402
     check_fresh_clients,
     check_malformed,
+    check_malformed_flood,
     check_many_calls,
     check_operator_round_trip,
     check_policies,
@@ -113,6 +114,7 @@ def interop(domain, distro):
     check_operator_round_trip(peer, checks, scenes)
     check_sync_refusals(peer, checks, scenes)
     check_malformed(peer, checks)
+    check_malformed_flood(peer, checks)
     check_many_calls(peer, checks)
     check_fresh_clients(peer, checks)
 

@@ -395,6 +395,28 @@ def check_malformed(peer, checks):
                lambda: status_problems(peer.get_policies.call(0), SUCCESS, peer.get_policies))
 
 
+# How many malformed requests the flood sends; tools/ros2-interop counts them in the node's log.
+FLOOD = 300
+
+
+def check_malformed_flood(peer, checks, count=FLOOD):
+    """Malformed requests in a row, each answered with its refusal: the node logs the first of a
+    period whole and counts the others (tools/ros2-interop reads its log)."""
+    def flood():
+        client = peer.get_policies
+        unanswered, wrong = 0, 0
+        for _ in range(count):
+            reply = client.call(0, 0x0102030405060708, writer="long")
+            if reply is None:
+                unanswered += 1
+            elif reply.status.success or not reply.status.message.startswith("CDR at byte"):
+                wrong += 1
+        counted = ((unanswered, "unanswered"), (wrong, "not refused as malformed"))
+        return [f"{n} of {count} {what}" for n, what in counted if n]
+
+    checks.run(f"get_policies malformed, {count} in a row: each refused", flood)
+
+
 def check_many_calls(peer, checks, count=100):
     def many():
         client = peer.get_policies
