@@ -200,9 +200,26 @@ pub fn read_json(args: &[u8]) -> Result<SyncRequest, String> {
     Ok(request)
 }
 
-/// A request's answer from the core, and whether it changed the core (a report also renews
-/// its scene's time to live). The engine ([`crate::engine`]) decides what is published.
-pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncResponse, bool) {
+/// A sync's answer ([`answer`]).
+#[derive(Clone, PartialEq, Debug)]
+pub struct Synced {
+    /// The response.
+    pub response: SyncResponse,
+    /// Whether the sync changed the core (a report also renews its scene's time to live).
+    pub changed: bool,
+    /// What it refused that its host should log, a line each: the whole sync when it carries
+    /// more than `max_batch` entries, a scene over its interface's quota. Logging is the host's
+    /// (`cooperation-dds` logs a peer's refusals at most once a period, [`crate::refusals`]).
+    pub refused: Vec<String>,
+}
+
+/// A request's answer from the core. The engine ([`crate::engine`]) decides what is published.
+pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> Synced {
+    let refusal = |message: String| Synced {
+        response: refused(message),
+        changed: false,
+        refused: Vec::new(),
+    };
     // One sync holds the node's lock while it applies: it carries no more entries than a
     // command batch may.
     let most = host.state().limits().max_batch;
@@ -212,18 +229,21 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
             "{entries} statuses, sequences and removals, more than the {most} a sync may carry \
              (the settings' max_batch)"
         );
-        tracing::warn!("a sync refused: {message}");
-        return (refused(message), false);
+        return Synced {
+            refused: vec![format!("a sync refused: {message}")],
+            ..refusal(message)
+        };
     }
     let mut interface = match host.interface(&request.interface) {
         Ok(interface) => interface,
-        Err(error) => return (refused(error.to_string()), false),
+        Err(error) => return refusal(error.to_string()),
     };
     let sequences = match stated_sequences(request) {
         Ok(sequences) => sequences,
-        Err(message) => return (refused(message), false),
+        Err(message) => return refusal(message),
     };
     let mut changed = false;
+    let mut logged = Vec::new();
     let mut results = Vec::with_capacity(request.statuses.len() + request.removed.len());
     for status in &request.statuses {
         let stated = sequences.get(&status.uuid).copied();
@@ -238,7 +258,7 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
             .and_then(|report| interface.update_cooperate_status(&report))
             .map(drop);
         if let Err(error @ RtcError::SceneQuota { .. }) = &outcome {
-            tracing::warn!("a scene refused: {error}");
+            logged.push(format!("a scene refused: {error}"));
         }
         changed |= outcome.is_ok();
         results.push(result(status.uuid, outcome));
@@ -272,7 +292,11 @@ pub fn answer(host: &mut Host, request: &SyncRequest, stamp: Time) -> (SyncRespo
         statuses,
         activations,
     };
-    (response, changed)
+    Synced {
+        response,
+        changed,
+        refused: logged,
+    }
 }
 
 /// Each stated sequence by its scene: each scene's at most once, and only for a scene a status

@@ -470,3 +470,48 @@ fn coop_engine_time_1_a_call_in_process_is_made_at_its_own_time() {
     assert!(ticked.is_none());
     assert_eq!(change.revision, None);
 }
+
+/// What a sync asked that was refused and is worth a line in the host's log comes back with
+/// the reply, for the host to log: the whole sync over `max_batch`, a scene over its interface's
+/// quota; an accepted sync and a scene refused for another reason (a report of an unknown
+/// state) have none.
+#[test]
+fn a_sync_answers_what_its_host_should_log() {
+    let mut engine = Engine::new(
+        cooperation_adapters::settings::load(None)
+            .expect("the built-in settings")
+            .config,
+        Options {
+            scene_quota: 1,
+            ..Options::default()
+        },
+    )
+    .expect("a configuration");
+    let accepted = engine.handle(report(1, true), at(0));
+    assert!(accepted.reply.success() && accepted.refused.is_empty(), "{accepted:?}");
+
+    let over_quota = engine.handle(report(2, true), at(1));
+    assert!(!over_quota.reply.success(), "{over_quota:?}");
+    assert_eq!(over_quota.refused.len(), 1, "{over_quota:?}");
+    assert!(over_quota.refused[0].starts_with("a scene refused: "), "{over_quota:?}");
+
+    let Request::Sync(mut sync) = report(1, true) else {
+        unreachable!("a sync")
+    };
+    let max_batch = engine.state().limits().max_batch;
+    sync.removed = vec![id(9).into(); max_batch];
+    let too_long = engine.handle(Request::Sync(sync.clone()), at(2));
+    assert!(!too_long.reply.success(), "{too_long:?}");
+    assert_eq!(too_long.refused.len(), 1, "{too_long:?}");
+    assert!(
+        too_long.refused[0].starts_with("a sync refused: ")
+            && too_long.refused[0].contains("max_batch"),
+        "{too_long:?}"
+    );
+
+    sync.removed.clear();
+    sync.statuses[0].state.r#type = 99;
+    let unknown_state = engine.handle(Request::Sync(sync), at(3));
+    assert!(!unknown_state.reply.success(), "{unknown_state:?}");
+    assert!(unknown_state.refused.is_empty(), "{unknown_state:?}");
+}

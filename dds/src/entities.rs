@@ -41,8 +41,13 @@ pub(crate) fn refused(
     what: &str,
     error: &dyn core::fmt::Display,
 ) {
-    if refusals.refused(source, &format!("{what} ({source}): {error}")) {
-        tracing::warn!(source, %error, "{what}");
+    refused_line(refusals, source, &format!("{what}: {error}"));
+}
+
+/// As [`refused`], said by a whole line.
+pub(crate) fn refused_line(refusals: &Refusals, source: &str, line: &str) {
+    if refusals.refused(source, &format!("{line} ({source})")) {
+        tracing::warn!(source, "{line}");
     }
 }
 

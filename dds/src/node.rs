@@ -22,7 +22,7 @@ use rustdds::mio1::{Events, Poll};
 use rustdds::DomainParticipant;
 
 pub use crate::entities::REPLY_WAIT;
-use crate::entities::{sum_up, wait, Factors, Participant, Replies, Server};
+use crate::entities::{refused_line, sum_up, wait, Factors, Participant, Replies, Server};
 use crate::graph::Distro;
 use crate::raw::{Raw, RawAdapter};
 
@@ -205,6 +205,9 @@ impl Node {
             };
             let now = self.clock.now();
             let handled = self.shared.update(|engine| engine.handle(incoming, now));
+            for line in &handled.refused {
+                refused_line(&self.refusals, endpoint.name(), line);
+            }
             if !handled.reply.success() {
                 tracing::debug!(service = endpoint.name(), "a request refused");
             }

@@ -440,6 +440,10 @@ impl Node {
             Core::Engine(shared) => {
                 let now = self.clock.now();
                 let handled = shared.update(|engine| engine.handle(request, now));
+                // A connected client's refusals are logged one a line (docs/server.md).
+                for line in &handled.refused {
+                    tracing::warn!("{line}");
+                }
                 let shown = handled.change.revision.filter(|_| handled.change.publish);
                 (handled.reply, shown)
             }

@@ -395,8 +395,12 @@ def check_malformed(peer, checks):
                lambda: status_problems(peer.get_policies.call(0), SUCCESS, peer.get_policies))
 
 
-# How many malformed requests the flood sends; tools/ros2-interop counts them in the node's log.
+# How many malformed requests, and how many syncs over max_batch, the flood sends;
+# tools/ros2-interop counts them in the node's log.
 FLOOD = 300
+SYNC_FLOOD = 20
+# The built-in settings' max_batch (adapters/config/cooperation.param.yaml).
+MAX_BATCH = 1024
 
 
 def check_malformed_flood(peer, checks, count=FLOOD):
@@ -415,6 +419,20 @@ def check_malformed_flood(peer, checks, count=FLOOD):
         return [f"{n} of {count} {what}" for n, what in counted if n]
 
     checks.run(f"get_policies malformed, {count} in a row: each refused", flood)
+
+    def too_long():
+        removed = [UUID(new_uuid()) for _ in range(MAX_BATCH + 1)]
+        unanswered, wrong = 0, 0
+        for _ in range(SYNC_FLOOD):
+            reply = peer.sync.call("crosswalk", [], [], removed)
+            if reply is None:
+                unanswered += 1
+            elif reply.success or "max_batch" not in reply.message:
+                wrong += 1
+        counted = ((unanswered, "unanswered"), (wrong, "not refused for max_batch"))
+        return [f"{n} of {SYNC_FLOOD} {what}" for n, what in counted if n]
+
+    checks.run(f"sync of {MAX_BATCH + 1} removals, {SYNC_FLOOD} in a row: each refused", too_long)
 
 
 def check_many_calls(peer, checks, count=100):

@@ -152,6 +152,9 @@ pub struct Handled {
     pub reply: Reply,
     /// What the call (time first, then the request) changed.
     pub change: Change,
+    /// What the request asked that was refused and is worth a line in the host's log
+    /// ([`sync::Synced::refused`]); the reply says it to the caller either way.
+    pub refused: Vec<String>,
 }
 
 /// One publication of every stream, as the core was when it was polled.
@@ -357,6 +360,7 @@ impl Engine {
     pub fn handle(&mut self, request: Request, now: Now) -> Handled {
         let ticked = self.catch_up(now);
         let mut shown = ticked.as_ref().is_some_and(|t| !t.retired.is_empty());
+        let mut refused = Vec::new();
         let (reply, changed) = match request {
             Request::Ad(request) => {
                 // An AD API call changed the core exactly when an operator decision or a policy
@@ -368,9 +372,10 @@ impl Engine {
             Request::Sync(request) => {
                 let named = shown::named(&request);
                 let before = shown::of_scenes(self.host.state(), &named);
-                let (response, changed) = sync::answer(&mut self.host, &request, now.stamp);
-                shown |= changed && before != shown::of_scenes(self.host.state(), &named);
-                (Reply::Sync(response), changed)
+                let synced = sync::answer(&mut self.host, &request, now.stamp);
+                shown |= synced.changed && before != shown::of_scenes(self.host.state(), &named);
+                refused = synced.refused;
+                (Reply::Sync(synced.response), synced.changed)
             }
             Request::Malformed(endpoint, message) => (Reply::refusal(endpoint, message), false),
         };
@@ -379,7 +384,11 @@ impl Engine {
         } else {
             Change::default()
         };
-        Handled { reply, change }
+        Handled {
+            reply,
+            change,
+            refused,
+        }
     }
 
     /// Tells the core the time between requests: scenes whose time to live ran out retire.
