@@ -488,12 +488,18 @@ fn a_sync_answers_what_its_host_should_log() {
     )
     .expect("a configuration");
     let accepted = engine.handle(report(1, true), at(0));
-    assert!(accepted.reply.success() && accepted.refused.is_empty(), "{accepted:?}");
+    assert!(
+        accepted.reply.success() && accepted.refused.is_empty(),
+        "{accepted:?}"
+    );
 
     let over_quota = engine.handle(report(2, true), at(1));
     assert!(!over_quota.reply.success(), "{over_quota:?}");
     assert_eq!(over_quota.refused.len(), 1, "{over_quota:?}");
-    assert!(over_quota.refused[0].starts_with("a scene refused: "), "{over_quota:?}");
+    assert!(
+        over_quota.refused[0].starts_with("a scene refused: "),
+        "{over_quota:?}"
+    );
 
     let Request::Sync(mut sync) = report(1, true) else {
         unreachable!("a sync")
