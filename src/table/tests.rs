@@ -72,7 +72,9 @@ fn behaves_as_an_ordered_map_with(layout: Layout, ops: &[Op]) -> Result<(), Test
     let expected: Vec<_> = model.iter().map(|(k, v)| (*k, *v)).collect();
     prop_assert_eq!(&walked, &expected);
     let afresh: IdTable<u32> = expected.iter().copied().collect();
+    // Both ways round: a table that grew large and shrank back compares with a small one.
     prop_assert_eq!(&afresh, &table);
+    prop_assert_eq!(&table, &afresh);
     prop_assert_eq!(fingerprint(&afresh), fingerprint(&table));
     // Equality is by contents in every pair of layouts: one value changed, or one entry
     // fewer, is another table.
@@ -82,8 +84,10 @@ fn behaves_as_an_ordered_map_with(layout: Layout, ops: &[Op]) -> Result<(), Test
             .map(|&(k, v)| (k, if k == first { value.wrapping_add(1) } else { v }))
             .collect();
         prop_assert_ne!(&changed, &table);
+        prop_assert_ne!(&table, &changed);
         let fewer: IdTable<u32> = expected.iter().copied().skip(1).collect();
         prop_assert_ne!(&fewer, &table);
+        prop_assert_ne!(&table, &fewer);
     }
     let relaid = afresh.relaid(TableLayout::Colliding);
     prop_assert!(relaid.is_consistent());
