@@ -34,7 +34,7 @@ const STOP_POLL: Duration = Duration::from_millis(100);
 
 /// A peer's message, request or status that `source` (a service, topic or interface) refused,
 /// logged whole if it is the first of the period of `refusals`, else counted for its summary
-/// (`docs/ros2.md`, *Logs*).
+/// (`docs/ros2.md`, *Errors and limits*).
 pub(crate) fn refused(
     refusals: &Refusals,
     source: &str,

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 
 use cooperation_adapters::cdr::{self, CdrError};
 use cooperation_adapters::dds::{ModuleEndpoints, RequestHeader};
+use cooperation_adapters::refusals::Refusals;
 use cooperation_adapters::relay::{CallId, ModuleAnswer, ModuleRequest};
 use cooperation_adapters::rtc::{AutoModeStatus, CooperateStatusArray};
 use rustdds::mio1::{Interest, Poll, Token};
@@ -16,7 +17,6 @@ use rustdds::{DataReaderStatus, DataWriterStatus, RTPSEntity, StatusEvented, GUI
 
 use crate::entities::{qos, refused, services_qos, Participant};
 use crate::raw::{Raw, RawAdapter};
-use cooperation_adapters::refusals::Refusals;
 
 /// Which of the interface's two services.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
