@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use cooperation_adapters::cdr;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
 use cooperation_adapters::engine::{Publication, Request};
-use cooperation_adapters::refusals::Refusals;
+use cooperation_adapters::refusals::{self, Refusals};
 use cooperation_adapters::wire;
 use rustdds::mio1::{Events, Interest, Poll, Token};
 use rustdds::no_key::{DataReader, DataWriter};
@@ -31,6 +31,12 @@ const REPLY_POLL: Duration = Duration::from_millis(2);
 
 /// The longest the poll sleeps, whatever the publication interval: how soon a stop is seen.
 const STOP_POLL: Duration = Duration::from_millis(100);
+
+/// The log of what the node's peers send that it refuses, by service, topic or interface,
+/// summed up every [`refusals::PERIOD`].
+pub(crate) fn refusal_log() -> Refusals {
+    Refusals::new("source", "sources", refusals::PERIOD)
+}
 
 /// A peer's message, request or status that `source` (a service, topic or interface) refused,
 /// logged whole if it is the first of the period of `refusals`, else counted for its summary

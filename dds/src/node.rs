@@ -16,13 +16,15 @@ use std::time::Duration;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::Endpoint;
 use cooperation_adapters::engine::{self, Engine};
-use cooperation_adapters::refusals::{self, Refusals};
+use cooperation_adapters::refusals::Refusals;
 use cooperation_adapters::Shared;
 use rustdds::mio1::{Events, Poll};
 use rustdds::DomainParticipant;
 
 pub use crate::entities::REPLY_WAIT;
-use crate::entities::{refused_line, sum_up, wait, Factors, Participant, Replies, Server};
+use crate::entities::{
+    refusal_log, refused_line, sum_up, wait, Factors, Participant, Replies, Server,
+};
 use crate::graph::Distro;
 use crate::raw::{Raw, RawAdapter};
 
@@ -142,7 +144,7 @@ impl Node {
             servers,
             factors,
             replies: Replies::default(),
-            refusals: Refusals::new("source", "sources", refusals::PERIOD),
+            refusals: refusal_log(),
             _graph: graph,
             _participant: joined.participant,
         })

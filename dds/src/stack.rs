@@ -18,13 +18,13 @@ use std::time::Duration;
 use cooperation_adapters::clock::Clock;
 use cooperation_adapters::dds::{Endpoint, RequestHeader};
 use cooperation_adapters::engine::{Engine, Now, Publication, Reply, Request};
-use cooperation_adapters::refusals::{self, Refusals};
+use cooperation_adapters::refusals::Refusals;
 use cooperation_adapters::relay::{self, factors, ModuleAnswer, OperatorCall, Relay};
 use cooperation_adapters::wire::{self, Service};
 use rustdds::mio1::{Events, Interest, Poll, Token, Waker};
 use rustdds::{DomainParticipant, RTPSEntity};
 
-use crate::entities::{refused, sum_up, wait, Factors, Participant, Replies, Server};
+use crate::entities::{refusal_log, refused, sum_up, wait, Factors, Participant, Replies, Server};
 use crate::module::{Heard, Module};
 use crate::raw::{Raw, RawAdapter};
 use crate::Options;
@@ -265,7 +265,7 @@ impl Stack {
             door_replies: Vec::new(),
             waker: Arc::new(waker),
             refusing: BTreeMap::new(),
-            refusals: Refusals::new("source", "sources", refusals::PERIOD),
+            refusals: refusal_log(),
             _graph: graph,
             _participant: joined.participant,
         })

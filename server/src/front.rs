@@ -62,7 +62,7 @@ impl Default for Admission {
             per_peer: 128,
             header_timeout: Duration::from_secs(5),
             request_timeout: Duration::from_secs(30),
-            refusal_log_every: Duration::from_secs(10),
+            refusal_log_every: cooperation_adapters::refusals::PERIOD,
         }
     }
 }

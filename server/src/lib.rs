@@ -193,7 +193,7 @@ pub async fn serve_reloading(
     }
     let mut publisher = tokio::spawn(publish(Arc::clone(&node)));
     let mut ticker = tokio::spawn(tick(Arc::clone(&node)));
-    let refusals = Arc::new(refusals::Refusals::default());
+    let refusals = Arc::new(refusals::Refusals::new(options.admission.refusal_log_every));
     let summaries = tokio::spawn(sum_up(
         Arc::clone(&refusals),
         options.admission.refusal_log_every,

@@ -9,17 +9,12 @@ use cooperation_adapters::refusals;
 #[derive(Debug)]
 pub(crate) struct Refusals(refusals::Refusals);
 
-impl Default for Refusals {
-    fn default() -> Self {
-        Self(refusals::Refusals::new(
-            "address",
-            "addresses",
-            refusals::PERIOD,
-        ))
-    }
-}
-
 impl Refusals {
+    /// A log of periods of `every`.
+    pub(crate) fn new(every: std::time::Duration) -> Self {
+        Self(refusals::Refusals::new("address", "addresses", every))
+    }
+
     /// Logs `line`, a refusal of a client at `peer`, if it is the period's first; counts it
     /// otherwise, by the peer's address without its port: one peer's connections count once.
     pub(crate) fn log(&self, peer: &str, line: &str) {
