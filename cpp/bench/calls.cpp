@@ -2,8 +2,8 @@
 // 1, 3, 10, 100 and 1,000 live scenes in one interface, and of a planning cycle in upstream's
 // velocity planner's call order (`planningCycle`), beside two baselines measured in the same
 // run: the same calls made in Rust on the Rust side of the bridge (no C++ boundary), and an
-// upstream-style registry (a vector searched linearly under a mutex, as `rtc_interface` keeps
-// its statuses), written here only to be measured. Built by `tools/cpp`; run it by hand:
+// upstream-style registry (`LinearRegistry`: what upstream's `RTCInterface` does for each call,
+// on the same node), written here only to be measured. Built by `tools/cpp`; run it by hand:
 //   target/cpp/build/bench_calls
 #include "autoware/rtc_interface/rtc_interface.hpp"
 #include "cooperation-cpp/src/bridge.rs.h"
@@ -20,8 +20,10 @@
 using autoware::rtc_interface::Command;
 using autoware::rtc_interface::CooperateCommand;
 using autoware::rtc_interface::CooperateCommands;
+using autoware::rtc_interface::CooperateResponse;
 using autoware::rtc_interface::CooperateStatus;
 using autoware::rtc_interface::CooperateStatusArray;
+using autoware::rtc_interface::Module;
 using autoware::rtc_interface::RTCInterface;
 using autoware::rtc_interface::State;
 using autoware::rtc_interface::UUID;
@@ -51,26 +53,52 @@ double time_ns(std::size_t rounds, const std::function<void(std::size_t)> & call
   return took.count() / static_cast<double>(rounds);
 }
 
-/// Upstream's data model for the same calls: statuses in a vector searched linearly.
+/// Upstream's `RTCInterface` for the same calls, as it behaves: statuses in the array it
+/// publishes, searched linearly under one mutex; an update checked against the lifecycle's
+/// transition table and stamped with the caller's time; expiry against the node's clock; commands
+/// through the node's service, one response per command; the array published through the node.
 class LinearRegistry
 {
 public:
-  void update(const UUID & uuid, bool safe, uint8_t state, double start, double finish)
+  LinearRegistry(cooperation::rtc::Node & node, const std::string & name)
+  : node_(node),
+    publisher_(node.create_publisher<CooperateStatusArray>("/registry/cooperate_status/" + name, 1))
+  {
+    server_ = node.create_service<CooperateCommands>(
+      "/registry/cooperate_commands/" + name, [this](
+                 const CooperateCommands::Request::SharedPtr request,
+                 const CooperateCommands::Response::SharedPtr response) {
+        on_commands(*request, *response);
+      });
+  }
+
+  void update(
+    const UUID & uuid, bool safe, uint8_t state, double start, double finish,
+    const builtin_interfaces::msg::Time & stamp, bool requested = false)
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     auto * status = find(uuid);
     if (status == nullptr) {
       CooperateStatus added;
+      added.stamp = stamp;
       added.uuid = uuid;
+      added.module.type = Module::INTERSECTION;
       added.safe = safe;
+      added.requested = requested;
+      added.command_status.type = Command::DEACTIVATE;
       added.state.type = State::WAITING_FOR_EXECUTION;
       added.start_distance = static_cast<float>(start);
       added.finish_distance = static_cast<float>(finish);
       added.auto_mode = true;
-      statuses_.push_back(added);
+      registered_.statuses.push_back(added);
       return;
     }
+    if (!may_transit(status->state.type, state)) {
+      return;
+    }
+    status->stamp = stamp;
     status->safe = safe;
+    status->requested = requested;
     status->state.type = state;
     status->start_distance = static_cast<float>(start);
     status->finish_distance = static_cast<float>(finish);
@@ -112,48 +140,78 @@ public:
     const auto * s = find(uuid);
     return s != nullptr && (s->state.type == State::SUCCEEDED || s->state.type == State::FAILED);
   }
-  bool command(const std::vector<CooperateCommand> & commands)
+  void publish(const builtin_interfaces::msg::Time & stamp)
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    bool all = true;
-    for (const auto & c : commands) {
+    registered_.stamp = stamp;
+    publisher_->publish(registered_);
+  }
+  void remove_expired()
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = seconds(node_.now());
+    registered_.statuses.erase(
+      std::remove_if(
+        registered_.statuses.begin(), registered_.statuses.end(),
+        [now](const CooperateStatus & s) { return now - seconds(s.stamp) > 10.0; }),
+      registered_.statuses.end());
+  }
+
+private:
+  static double seconds(const builtin_interfaces::msg::Time & time)
+  {
+    return static_cast<double>(time.sec) + static_cast<double>(time.nanosec) * 1e-9;
+  }
+  // The four rules of upstream's table: from waiting to waiting, running or failed; from running
+  // to anything but waiting; from aborting to aborting or failed; to the same state.
+  static bool may_transit(uint8_t from, uint8_t to)
+  {
+    return (from == State::WAITING_FOR_EXECUTION &&
+            (to == State::WAITING_FOR_EXECUTION || to == State::RUNNING || to == State::FAILED)) ||
+           (from == State::RUNNING && to != State::WAITING_FOR_EXECUTION) ||
+           (from == State::ABORTING && (to == State::ABORTING || to == State::FAILED)) ||
+           to == from;
+  }
+  static bool commandable(const CooperateStatus * s)
+  {
+    return s != nullptr &&
+           (s->state.type == State::WAITING_FOR_EXECUTION || s->state.type == State::RUNNING);
+  }
+  // One response per command, then each command applied to its scene if that is waiting or
+  // running (upstream's command lock is never taken here).
+  void on_commands(
+    const CooperateCommands::Request & request, CooperateCommands::Response & response)
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto & c : request.commands) {
+      CooperateResponse answer;
+      answer.uuid = c.uuid;
+      answer.module = c.module;
+      answer.success = commandable(find(c.uuid));
+      response.responses.push_back(answer);
+    }
+    for (const auto & c : request.commands) {
       auto * s = find(c.uuid);
-      all = all && s != nullptr;
-      if (s != nullptr) {
+      if (commandable(s)) {
         s->command_status = c.command;
         s->auto_mode = false;
       }
     }
-    return all;
   }
-  CooperateStatusArray publish()
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    CooperateStatusArray array;
-    array.statuses = statuses_;
-    return array;
-  }
-  void remove_expired(int32_t now)
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    statuses_.erase(
-      std::remove_if(statuses_.begin(), statuses_.end(),
-                     [now](const CooperateStatus & s) { return now - s.stamp.sec > 10; }),
-      statuses_.end());
-  }
-
-private:
   CooperateStatus * find(const UUID & uuid)
   {
-    for (auto & status : statuses_) {
+    for (auto & status : registered_.statuses) {
       if (status.uuid.uuid == uuid.uuid) {
         return &status;
       }
     }
     return nullptr;
   }
+  cooperation::rtc::Node & node_;
   std::mutex mutex_;
-  std::vector<CooperateStatus> statuses_;
+  CooperateStatusArray registered_;
+  cooperation::rtc::Publisher<CooperateStatusArray>::SharedPtr publisher_;
+  std::shared_ptr<cooperation::rtc::ServiceServer<CooperateCommands>> server_;
 };
 
 std::map<std::string, double> time_class(std::size_t scenes, std::size_t rounds)
@@ -206,14 +264,15 @@ std::map<std::string, double> time_class(std::size_t scenes, std::size_t rounds)
 
 std::map<std::string, double> time_linear(std::size_t scenes, std::size_t rounds)
 {
-  LinearRegistry registry;
+  cooperation::rtc::Node node("bench");
+  LinearRegistry registry(node, "intersection");
   for (std::size_t i = 0; i < scenes; ++i) {
-    registry.update(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10);
+    registry.update(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
   }
   const auto at = [scenes](std::size_t round) { return scene(round % scenes); };
   std::map<std::string, double> ns;
   ns["updateCooperateStatus"] = time_ns(rounds, [&](std::size_t r) {
-    registry.update(at(r), true, State::WAITING_FOR_EXECUTION, 10, 10);
+    registry.update(at(r), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
   });
   ns["isRegistered"] = time_ns(rounds, [&](std::size_t r) { sink = registry.is_registered(at(r)); });
   ns["isActivated"] = time_ns(rounds, [&](std::size_t r) { sink = registry.is_activated(at(r)); });
@@ -224,24 +283,28 @@ std::map<std::string, double> time_linear(std::size_t scenes, std::size_t rounds
   ns["isRTCEnabled"] = time_ns(rounds, [&](std::size_t r) { sink = registry.is_rtc_enabled(at(r)); });
   ns["isTerminated"] = time_ns(rounds, [&](std::size_t r) { sink = registry.is_terminated(at(r)); });
   ns["cooperateCommands"] = time_ns(rounds, [&](std::size_t r) {
+    CooperateCommands::Request request;
     CooperateCommand command;
     command.uuid = at(r);
     command.command.type = Command::ACTIVATE;
-    sink = registry.command({command});
+    request.commands.push_back(command);
+    sink = node.call<CooperateCommands>("/registry/cooperate_commands/intersection", request)
+             .has_value();
   });
-  ns["publishCooperateStatus"] = time_ns(
-    (rounds + scenes - 1) / scenes, [&](std::size_t) { sink = registry.publish().statuses.empty(); });
-  ns["removeExpiredCooperateStatus"] = time_ns(rounds, [&](std::size_t) { registry.remove_expired(0); });
+  ns["publishCooperateStatus"] =
+    time_ns((rounds + scenes - 1) / scenes, [&](std::size_t) { registry.publish(node.now()); });
+  ns["removeExpiredCooperateStatus"] =
+    time_ns(rounds, [&](std::size_t) { registry.remove_expired(); });
   ns["planningCycle"] = time_ns((rounds + scenes - 1) / scenes, [&](std::size_t) {
     for (std::size_t i = 0; i < scenes; ++i) {
       sink = registry.is_activated(scene(i));
       sink = registry.is_rtc_enabled(scene(i));
     }
     for (std::size_t i = 0; i < scenes; ++i) {
-      registry.update(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10);
+      registry.update(scene(i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
     }
-    registry.remove_expired(0);
-    sink = registry.publish().statuses.empty();
+    registry.remove_expired();
+    registry.publish(node.now());
   });
   return ns;
 }
