@@ -141,6 +141,7 @@ impl Behavior {
     }
 
     /// A built-in behaviour's place in [`Behavior::ALL`]; `None` for an extension.
+    #[inline]
     pub(crate) const fn rank(self) -> Option<usize> {
         Some(match self {
             Self::Extension(_) => return None,
@@ -300,6 +301,7 @@ impl Sequence {
     }
 
     /// A built-in sequence's place in [`Sequence::ALL`]; `None` for an extension.
+    #[inline]
     pub(crate) const fn rank(self) -> Option<usize> {
         match self {
             Self::Empty => Some(0),
@@ -417,6 +419,7 @@ impl Module {
 
     /// A built-in module's place in module order, below [`COUNT`](Self::COUNT): a dense index
     /// for per-module tables. `None` for a module with an extension behaviour or sequence.
+    #[inline]
     pub(crate) const fn index(self) -> Option<usize> {
         match (self.behavior.rank(), self.sequence.rank()) {
             (Some(behavior), Some(sequence)) => Some(behavior * Sequence::ALL.len() + sequence),

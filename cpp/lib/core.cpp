@@ -124,6 +124,9 @@ Result InterfaceCore::clear()
 std::vector<Uuid> InterfaceCore::advance(Stamp now)
 {
   const auto expired = b::advance(*core_->core, now);
+  if (expired.empty()) {
+    return {};
+  }
   return std::vector<Uuid>(expired.begin(), expired.end());
 }
 
@@ -144,7 +147,7 @@ std::optional<bool> InterfaceCore::is_rtc_enabled(const Uuid & uuid) const
     return std::nullopt;
   }
   const auto flag = b::is_rtc_enabled(*core_->core, **handle_, uuid);
-  return flag.known ? std::optional<bool>(flag.value) : std::nullopt;
+  return flag == b::Flag::Unknown ? std::nullopt : std::optional<bool>(flag == b::Flag::Yes);
 }
 
 std::optional<bool> InterfaceCore::is_terminated(const Uuid & uuid) const
@@ -153,16 +156,23 @@ std::optional<bool> InterfaceCore::is_terminated(const Uuid & uuid) const
     return std::nullopt;
   }
   const auto flag = b::is_terminated(*core_->core, **handle_, uuid);
-  return flag.known ? std::optional<bool>(flag.value) : std::nullopt;
+  return flag == b::Flag::Unknown ? std::nullopt : std::optional<bool>(flag == b::Flag::Yes);
 }
 
-std::vector<Status> InterfaceCore::statuses(Stamp stamp) const
+void InterfaceCore::statuses_into(Stamp stamp, rust::Vec<Status> & out) const
 {
   if (!bound_.ok) {
-    return {};
+    out.clear();
+    return;
   }
-  const auto statuses = b::statuses(*core_->core, **handle_, stamp);
-  return std::vector<Status>(statuses.begin(), statuses.end());
+  b::statuses_into(*core_->core, **handle_, stamp, out);
+}
+
+rust::Vec<Status> InterfaceCore::statuses(Stamp stamp) const
+{
+  rust::Vec<Status> statuses;
+  statuses_into(stamp, statuses);
+  return statuses;
 }
 
 bool InterfaceCore::auto_mode_status() const

@@ -47,14 +47,16 @@ pub mod ffi {
         expired: Vec<Uuid>,
     }
 
-    /// A yes-or-no answer that may have none: `known` is false where the adapter answers
-    /// `None` (`[COOP-DEV-UNKNOWN-QUERY.1]`).
-    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-    struct Flag {
-        /// The adapter has an answer.
-        known: bool,
-        /// The answer, when it has one (false otherwise).
-        value: bool,
+    /// A yes-or-no answer that may have none, where the adapter answers `None`
+    /// (`[COOP-DEV-UNKNOWN-QUERY.1]`); one byte, passed as a number rather than through memory.
+    #[derive(Debug)]
+    enum Flag {
+        /// The adapter has no answer.
+        Unknown,
+        /// No.
+        No,
+        /// Yes.
+        Yes,
     }
 
     /// One `tier4_rtc_msgs/CooperateStatus`, its constants as their numbers.
@@ -179,8 +181,9 @@ pub mod ffi {
         fn is_rtc_enabled(core: &Core, interface: &Handle, uuid: &Uuid) -> Flag;
         /// `isTerminated`.
         fn is_terminated(core: &Core, interface: &Handle, uuid: &Uuid) -> Flag;
-        /// The statuses `publishCooperateStatus` publishes.
-        fn statuses(core: &Core, interface: &Handle, stamp: Stamp) -> Vec<Status>;
+        /// Replaces `out`'s contents with the statuses `publishCooperateStatus` publishes,
+        /// keeping its capacity.
+        fn statuses_into(core: &Core, interface: &Handle, stamp: Stamp, out: &mut Vec<Status>);
         /// The interface's auto-mode status.
         fn auto_mode_status(core: &Core, interface: &Handle) -> bool;
         /// The interface's `CooperateCommands` service, called at the node clock's `now` (the

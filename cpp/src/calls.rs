@@ -372,11 +372,9 @@ pub(crate) fn is_force_deactivated(core: &Core, handle: &Handle, uuid: &Uuid) ->
 
 fn flag(answer: Option<Option<bool>>) -> Flag {
     match answer.flatten() {
-        Some(value) => Flag { known: true, value },
-        None => Flag {
-            known: false,
-            value: false,
-        },
+        Some(true) => Flag::Yes,
+        Some(false) => Flag::No,
+        None => Flag::Unknown,
     }
 }
 
@@ -402,29 +400,29 @@ pub(crate) fn is_terminated(core: &Core, handle: &Handle, uuid: &Uuid) -> Flag {
     ))
 }
 
-pub(crate) fn statuses(core: &Core, handle: &Handle, stamp: Stamp) -> Vec<Status> {
+/// Replaces `out`'s contents with the interface's statuses (none if it cannot be queried); it
+/// allocates only when `out` has too little capacity.
+pub(crate) fn statuses_into(core: &Core, handle: &Handle, stamp: Stamp, out: &mut Vec<Status>) {
+    out.clear();
     view(core, handle, |view| {
-        view.cooperate_statuses(time(stamp))
-            .map(|status| Status {
-                stamp: Stamp {
-                    sec: status.stamp.sec,
-                    nanosec: status.stamp.nanosec,
-                },
-                uuid: Uuid {
-                    bytes: status.uuid.uuid,
-                },
-                module: status.module.r#type,
-                safe: status.safe,
-                requested: status.requested,
-                command: status.command_status.r#type,
-                state: status.state.r#type,
-                auto_mode: status.auto_mode,
-                start_distance: status.start_distance,
-                finish_distance: status.finish_distance,
-            })
-            .collect()
-    })
-    .unwrap_or_default()
+        out.extend(view.cooperate_statuses(time(stamp)).map(|status| Status {
+            stamp: Stamp {
+                sec: status.stamp.sec,
+                nanosec: status.stamp.nanosec,
+            },
+            uuid: Uuid {
+                bytes: status.uuid.uuid,
+            },
+            module: status.module.r#type,
+            safe: status.safe,
+            requested: status.requested,
+            command: status.command_status.r#type,
+            state: status.state.r#type,
+            auto_mode: status.auto_mode,
+            start_distance: status.start_distance,
+            finish_distance: status.finish_distance,
+        }));
+    });
 }
 
 pub(crate) fn auto_mode_status(core: &Core, handle: &Handle) -> bool {

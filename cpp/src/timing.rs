@@ -54,6 +54,7 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
         );
     }
     let at = |round: usize| ids.get(round % scenes).copied().unwrap_or(scene(0));
+    let mut statuses = Vec::new();
     vec![
         cost("updateCooperateStatus", rounds, |round| {
             black_box(calls::update(
@@ -97,7 +98,8 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
             black_box(calls::cooperate_commands(&core, ZERO, &handle, &[command]));
         }),
         cost("publishCooperateStatus", rounds.div_ceil(scenes), |_| {
-            black_box(calls::statuses(&core, &handle, ZERO));
+            calls::statuses_into(&core, &handle, ZERO, &mut statuses);
+            black_box(&statuses);
         }),
         cost("removeExpiredCooperateStatus", rounds, |_| {
             black_box(calls::advance(&core, ZERO));
@@ -113,7 +115,8 @@ pub fn time_rust_calls(scenes: usize, rounds: usize) -> Vec<CallCost> {
                 ));
             }
             black_box(calls::advance(&core, ZERO));
-            black_box(calls::statuses(&core, &handle, ZERO));
+            calls::statuses_into(&core, &handle, ZERO, &mut statuses);
+            black_box(&statuses);
         }),
     ]
 }

@@ -50,6 +50,7 @@ const _: () = assert!(Module::COUNT <= u64::BITS as usize);
 
 impl Policies {
     /// The policy of `module`, if it supports cooperation.
+    #[inline]
     pub(super) fn get(&self, module: Module) -> Option<Policy> {
         match module.index() {
             Some(index) => self.builtin.get(index).copied().flatten(),

@@ -12,6 +12,7 @@ impl State {
 
     /// The live scene with this identifier.
     #[must_use]
+    #[inline]
     pub fn scene(&self, id: SceneId) -> Option<&Scene> {
         self.scenes.get(id)
     }
@@ -103,6 +104,7 @@ impl State {
 
     /// A module's current policy, if it supports cooperation.
     #[must_use]
+    #[inline]
     pub fn policy(&self, module: Module) -> Option<Policy> {
         self.policies.get(module)
     }

@@ -144,21 +144,9 @@ fn refusals_are_explained_and_change_nothing() {
         "{state:?}"
     );
     assert!(!is_registered(&core, name, &id));
-    assert_eq!(
-        is_rtc_enabled(&core, name, &id),
-        Flag {
-            known: false,
-            value: false
-        }
-    );
+    assert_eq!(is_rtc_enabled(&core, name, &id), Flag::Unknown);
     assert!(stated(0, "change").ok);
-    assert_eq!(
-        is_rtc_enabled(&core, name, &id),
-        Flag {
-            known: true,
-            value: true
-        }
-    );
+    assert_eq!(is_rtc_enabled(&core, name, &id), Flag::Yes);
     assert_eq!(module_type(&core, name), rtc::Module::AVOIDANCE_LEFT);
     assert_eq!(module_type(&core, &unknown), rtc::Module::NONE);
 }

@@ -37,6 +37,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -187,26 +188,28 @@ public:
   BasicRTCInterface & operator=(const BasicRTCInterface &) = delete;
 
   /// Publishes the interface's live scenes, in identifier order, each stamped with its owner's
-  /// last report (`stamp` less the scene's age).
+  /// last report (`stamp` less the scene's age). The array is the interface's own, written over
+  /// in place: publishing allocates nothing of its own once the array has held its most scenes.
   void publishCooperateStatus(const Time & stamp)
   {
-    CooperateStatusArray array;
+    const std::lock_guard<std::mutex> lock(publishing_);
+    auto & array = published_;
     array.stamp = detail::time_of(detail::stamp_of(stamp));
-    const auto statuses = core_.statuses(detail::stamp_of(stamp));
-    array.statuses.reserve(statuses.size());
-    for (const auto & s : statuses) {
-      CooperateStatus status;
-      status.stamp = detail::time_of(s.stamp);
-      status.uuid = detail::uuid_of(s.uuid);
-      status.module.type = s.module;
-      status.safe = s.safe;
-      status.requested = s.requested;
-      status.command_status.type = s.command;
-      status.state.type = s.state;
-      status.auto_mode = s.auto_mode;
-      status.start_distance = s.start_distance;
-      status.finish_distance = s.finish_distance;
-      array.statuses.push_back(status);
+    core_.statuses_into(detail::stamp_of(stamp), statuses_);
+    array.statuses.resize(statuses_.size());
+    auto status = array.statuses.begin();
+    for (const auto & s : statuses_) {
+      status->stamp = detail::time_of(s.stamp);
+      status->uuid = detail::uuid_of(s.uuid);
+      status->module.type = s.module;
+      status->safe = s.safe;
+      status->requested = s.requested;
+      status->command_status.type = s.command;
+      status->state.type = s.state;
+      status->auto_mode = s.auto_mode;
+      status->start_distance = s.start_distance;
+      status->finish_distance = s.finish_distance;
+      ++status;
     }
     pub_statuses_->publish(array);
   }
@@ -347,6 +350,10 @@ private:
   template <class Uuids>
   void log_expired(const Uuids & expired) const
   {
+    // Most calls expire nothing: asked once, not through the walk's two ends.
+    if (expired.empty()) {
+      return;
+    }
     for (const auto & uuid : expired) {
       detail::info(logger_, "uuid : " + detail::to_string(uuid) + " expired");
     }
@@ -434,6 +441,12 @@ private:
   std::shared_ptr<void> srv_commands_;
   std::shared_ptr<void> srv_auto_mode_;
   std::shared_ptr<void> timer_;
+  /// The array `publishCooperateStatus` publishes and the bridge's statuses it is made from,
+  /// both kept between calls, under their own lock: publishing from two threads is safe, as
+  /// upstream's.
+  std::mutex publishing_;
+  CooperateStatusArray published_;
+  rust::Vec<cooperation::rtc::Status> statuses_;
   /// Always empty: no command is stored to apply later (`[COOP-DEV-STORED-COMMANDS.1]`).
   /// Upstream's member, which its unit test reads.
   std::vector<CooperateCommand> stored_commands_;

@@ -112,7 +112,9 @@ public:
   std::optional<bool> is_terminated(const Uuid & uuid) const;
 
   /// The interface's live scenes, in identifier order, each stamped with its last report.
-  std::vector<Status> statuses(Stamp stamp) const;
+  rust::Vec<Status> statuses(Stamp stamp) const;
+  /// `statuses`, written over `out`, which allocates only when it has too little capacity.
+  void statuses_into(Stamp stamp, rust::Vec<Status> & out) const;
   /// The interface's auto-mode status.
   bool auto_mode_status() const;
 
