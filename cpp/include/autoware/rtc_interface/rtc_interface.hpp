@@ -350,7 +350,7 @@ private:
   template <class Uuids>
   void log_expired(const Uuids & expired) const
   {
-    // Most calls expire nothing: asked once, not through the walk's two ends.
+    // Most calls expire nothing: one call into the bridge, not the loop's two ends.
     if (expired.empty()) {
       return;
     }
