@@ -2,6 +2,7 @@
 //! an input or asks it a query, and converts the answer back.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 
 use cooperation::{
     Decision, Distance, Input, Module, OperatorDecision, Policy, PolicySetting, Scene, SceneId,
@@ -52,10 +53,13 @@ pub struct InterfaceId(usize);
 /// change a core input.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub struct Rtc {
-    bindings: Vec<Binding>,
+    /// The bindings, fixed when the adapter is made and shared by its copies (a model checker
+    /// copies a host for every transition; the routes are all a copy needs of its own).
+    bindings: Arc<[Binding]>,
     /// Each binding's core modules, listed once when the adapter is made: every call checks
     /// that the core has a policy for each, and reads them here rather than building them.
-    modules: Vec<Box<[Module]>>,
+    /// Shared by copies, as the bindings are.
+    modules: Arc<[Box<[Module]>]>,
     /// The interface (index into `bindings`) each scene registered through. Entries for
     /// identifiers the core no longer remembers are pruned when they could outnumber the live
     /// and retired identifiers.
@@ -114,7 +118,7 @@ impl Rtc {
             .map(|binding| binding.modules().collect())
             .collect();
         Self {
-            bindings,
+            bindings: bindings.into(),
             modules,
             routes: Routes::default(),
             quota: None,
