@@ -49,7 +49,7 @@ where
 }
 
 /// The sequential model with two live scenes (so expiry, the scene limit and commands over two
-/// scenes happen), in both table layouts, and with two modules.
+/// scenes happen), in both table layouts, and with two and three modules.
 #[test]
 #[ignore = "a long exhaustive check: `cargo test --release -p cooperation-models -- --ignored` (CI runs it)"]
 fn sequential() {
@@ -97,6 +97,16 @@ fn sequential() {
     satisfied(&model, bfs, to_five_steps, &[]);
     let model = SequentialModel::new(Bounds::new(2, 2)).expect("valid");
     satisfied(&model, SETTINGS, Stop::first_violation(), &[]);
+    // Three modules, so that a built-in module with a sequence (`avoidance/change`) is among
+    // them: a module's index or policy slot that ignored its sequence shows only there. One
+    // identifier: the scene limit (one live scene) is not reachable.
+    let model = SequentialModel::new(Bounds::new(3, 1)).expect("valid");
+    satisfied(
+        &model,
+        SETTINGS,
+        Stop::first_violation(),
+        &["COOP-REG-FULL.1 is reachable"],
+    );
     let forgetting = Bounds {
         modules: 1,
         scenes: 3,
