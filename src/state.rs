@@ -170,6 +170,22 @@ impl State {
         Ok(transition)
     }
 
+    /// The state one input leads to, and its transition, with `self` left as it is: what
+    /// [`apply`](Self::apply) does to a copy of `self`, the same decision and the same writes,
+    /// except that the copy is made only once the input is accepted. A caller that keeps every
+    /// state it passes through (a model checker, an undo history) copies nothing for a refused
+    /// input.
+    ///
+    /// # Errors
+    /// The [`Rejection`] `apply` gives for the same input.
+    pub fn after(&self, input: &Input) -> Result<(Self, Transition), Rejection> {
+        let plan = self.decide(input)?;
+        let mut next = self.clone();
+        let transition = next.commit(plan, &mut Forget);
+        debug_assert_eq!(next.check_invariants(), Ok(()), "after {input:?}");
+        Ok((next, transition))
+    }
+
     /// The transition function's decision: which rule the input fires, and what it will
     /// write, or the rejection. Every guard of spec §5 is here, each under its rule's tag.
     #[inline(always)]

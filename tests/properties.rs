@@ -120,6 +120,29 @@ proptest! {
         }
     }
 
+    /// `after` is `apply` on a copy: the same result and the same next state for every input,
+    /// and the state it was asked about untouched (the model checker calls `after`; planners
+    /// call `apply`).
+    #[test]
+    fn after_is_apply_on_a_copy(inputs in proptest::collection::vec(any_input(), 0..64)) {
+        let mut state = state();
+        for input in &inputs {
+            let before = state.clone();
+            let after = before.after(input);
+            let applied = state.apply(input);
+            match after {
+                Ok((next, transition)) => {
+                    prop_assert_eq!(applied, Ok(transition));
+                    prop_assert_eq!(&next, &state);
+                }
+                Err(rejection) => {
+                    prop_assert_eq!(applied, Err(rejection));
+                    prop_assert_eq!(&before, &state);
+                }
+            }
+        }
+    }
+
     /// Equal states behave alike, whatever history built them: the state a crowd of inputs
     /// reached and the same state rebuilt scene by scene in identifier order and in reverse
     /// identifier order hold their scenes in different places once the table is past its small

@@ -98,7 +98,7 @@ fn one_by_one(
     let mut transitions = Vec::with_capacity(inputs.len());
     for (index, input) in inputs.iter().enumerate() {
         let (next, result) = fault::transition(None, &state, input);
-        state = next;
+        state = next.into_owned();
         match result {
             Ok(transition) => transitions.push(transition),
             Err(rejection) => {

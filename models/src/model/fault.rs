@@ -11,6 +11,7 @@ use cooperation::{
     Rule, SceneId, SequenceRejection, State, Transition,
 };
 use serde_json::{json, Value};
+use std::borrow::Cow;
 
 /// A deliberately wrong behaviour.
 #[derive(
@@ -246,20 +247,26 @@ impl Fault {
     }
 }
 
-/// The transition every model makes: `State::apply` on a copy of `core`, as a consumer calls
-/// it, or, in a sensitivity test, the faulty wrapper around it. Gives the copy as the input
-/// left it, and the result.
-pub fn transition(
+/// The transition every model makes: `State::after`, as a consumer that keeps the state it
+/// came from calls it (`State::apply` on a copy, the copy made only for an accepted input), or,
+/// in a sensitivity test, the faulty wrapper around `apply` on a copy. Gives the state the input
+/// left (`core` itself when it was refused), and the result.
+pub fn transition<'a>(
     fault: Option<Fault>,
-    core: &State,
+    core: &'a State,
     input: &Input,
-) -> (State, Result<Transition, Rejection>) {
-    let mut next = core.clone();
-    let result = match fault {
-        None => next.apply(input),
-        Some(fault) => fault.apply(&mut next, input),
-    };
-    (next, result)
+) -> (Cow<'a, State>, Result<Transition, Rejection>) {
+    match fault {
+        None => match core.after(input) {
+            Ok((next, transition)) => (Cow::Owned(next), Ok(transition)),
+            Err(rejection) => (Cow::Borrowed(core), Err(rejection)),
+        },
+        Some(fault) => {
+            let mut next = core.clone();
+            let result = fault.apply(&mut next, input);
+            (Cow::Owned(next), result)
+        }
+    }
 }
 
 /// The transition of a sequence of inputs: `State::apply_all` on a copy of `core`, as a

@@ -29,6 +29,7 @@ use cooperation::{
 };
 use serde::{Deserialize, Serialize};
 use stateright::{Model, Property, Representative};
+use std::borrow::Cow;
 
 use describe::owner_inputs;
 use properties::{observe_delivery, observe_owner, observe_publish, REJECTION_CHANGED};
@@ -289,8 +290,13 @@ impl NetworkModel {
         self.fault
     }
 
-    /// The planner's transition: `State::apply` on a copy, or the faulty wrapper around it.
-    fn transition(&self, core: &State, input: &Input) -> (State, Result<Transition, Rejection>) {
+    /// The planner's transition: `State::after` (`State::apply` on a copy, made only for an
+    /// accepted input), or the faulty wrapper around `apply`.
+    fn transition<'a>(
+        &self,
+        core: &'a State,
+        input: &Input,
+    ) -> (Cow<'a, State>, Result<Transition, Rejection>) {
         crate::model::fault::transition(self.fault, core, input)
     }
 
@@ -415,7 +421,7 @@ impl NetworkModel {
             Ok(transition) => transition.rule,
             Err(rejection) => rejection.rule(),
         });
-        self.settle(from, next, core, result.is_err());
+        self.settle(from, next, core.into_owned(), result.is_err());
         result
     }
 
@@ -546,7 +552,7 @@ impl Model for NetworkModel {
                     let applied = self.apply_core(from, &mut next, &input).is_ok();
                     (
                         applied,
-                        applied && self.transition(&next.core, &input).0 != next.core,
+                        applied && *self.transition(&next.core, &input).0 != next.core,
                     )
                 };
                 observe_delivery(from, &mut next, &message, applied, second);

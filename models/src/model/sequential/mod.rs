@@ -9,6 +9,7 @@
 //! (`crate::model::spec::rules`) say. A flag is only ever set when a property is violated, so in a
 //! correct run the flags add no states.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use cooperation::{
@@ -237,13 +238,14 @@ impl SequentialModel {
         &self.alphabet
     }
 
-    /// The transition under check: the library's `State::apply` on a copy of `core`, or the
-    /// faulty wrapper around it. Gives the copy as the input left it, and the result.
-    pub fn transition(
+    /// The transition under check: the library's `State::after` (`State::apply` on a copy of
+    /// `core`, made only for an accepted input), or the faulty wrapper around `apply`. Gives the
+    /// state the input left (`core` itself when it was refused), and the result.
+    pub fn transition<'a>(
         &self,
-        core: &State,
+        core: &'a State,
         input: &Input,
-    ) -> (State, Result<Transition, Rejection>) {
+    ) -> (Cow<'a, State>, Result<Transition, Rejection>) {
         crate::model::fault::transition(self.fault, core, input)
     }
 
@@ -297,8 +299,12 @@ impl SequentialModel {
             Ok(transition) => transition.rule,
             Err(rejection) => rejection.rule(),
         };
-        // Compared once: the spec's check of a rejection and the stall below both need it.
-        let unchanged = core == *from.core;
+        // Compared once: the spec's check of a rejection and the stall below both need it. A
+        // refused input gives `core` itself back, unless a fault copied it.
+        let unchanged = match &core {
+            Cow::Borrowed(_) => true,
+            Cow::Owned(next) => *next == *from.core,
+        };
         let departures = against_spec(&self.tables, from, input, (&result, &core, unchanged));
         if unchanged {
             // Nothing changed; only a departure from the spec is news.
@@ -312,7 +318,13 @@ impl SequentialModel {
         }
         let mut ghost = observe(from, input, &result, &core);
         ghost.broken = ghost.broken.and(departures);
-        Step::new(Arc::new(core), Some(rule), ghost, false, from.settings())
+        Step::new(
+            Arc::new(core.into_owned()),
+            Some(rule),
+            ghost,
+            false,
+            from.settings(),
+        )
     }
 }
 
