@@ -83,6 +83,8 @@ enum Plan<'a> {
 /// - **Changing it** (the only two writers): [`apply`](Self::apply), one input, and
 ///   [`apply_all`](Self::apply_all), a sequence of inputs all or none. Each answers the rule
 ///   that fired or the typed [`Rejection`].
+/// - **The next state beside this one:** [`after`](Self::after), `apply` on a copy made only
+///   once the input is accepted (what a model checker calls).
 /// - **Asking about scenes:** [`scene`](Self::scene), [`scenes`](Self::scenes),
 ///   [`scene_count`](Self::scene_count), [`merged_decision`](Self::merged_decision),
 ///   [`merged_decisions`](Self::merged_decisions), [`awaits_operator`](Self::awaits_operator),
