@@ -27,7 +27,9 @@ use spec_text::mentioned_tags;
 fn read_dirs(dirs: &[&str]) -> String {
     let mut text = String::new();
     for dir in dirs {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(dir);
         let files = spec_text::rust_sources(&root);
         assert!(!files.is_empty(), "no Rust files under {dir}");
         text.extend(files.into_iter().map(|(_, text)| text));
@@ -151,7 +153,7 @@ fn decision_path(source: &str) -> Vec<(String, Vec<String>)> {
 /// stand for several guards.
 #[test]
 fn every_rule_is_tagged_at_its_guard() {
-    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/state.rs"))
+    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../src/state.rs"))
         .expect("readable");
     let functions = decision_path(&source);
     assert!(
@@ -299,8 +301,12 @@ fn default_limits_are_the_specs() {
         .collect();
     assert_eq!(in_spec, code, "spec §10");
     let read = |path: &str| {
-        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path))
-            .expect("readable")
+        std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("..")
+                .join(path),
+        )
+        .expect("readable")
     };
     let trace_format: BTreeMap<String, u64> = table(
         &read("docs/trace-format.md"),

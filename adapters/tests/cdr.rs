@@ -14,7 +14,7 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 fn golden(name: &str) -> Vec<u8> {
-    let path = format!("{}/tests/data/cdr/{name}.hex", env!("CARGO_MANIFEST_DIR"));
+    let path = format!("{}/data/cdr/{name}.hex", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     let text = text.trim();
     (0..text.len())

@@ -4,8 +4,11 @@
 use cooperation::{Decision, OperatorDecision, Phase, Policy};
 
 pub fn spec() -> String {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/spec/cooperation.md"))
-        .expect("spec/cooperation.md is readable")
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../spec/cooperation.md"
+    ))
+    .expect("spec/cooperation.md is readable")
 }
 
 /// The spec's text reader, shared with the model checker (one reader of the spec).

@@ -1,4 +1,4 @@
-//! The wire module against the message definitions (`tests/data/messages.txt`): every JSON
+//! The wire module against the message definitions (`adapters/tests/data/messages.txt`): every JSON
 //! field name, in order and of the right kind, and every constant with its value and width; and
 //! that every message refuses each of its fields given twice.
 
@@ -20,7 +20,7 @@ struct Definition {
 }
 
 fn definitions() -> BTreeMap<String, Definition> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/messages.txt");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/messages.txt");
     let text = std::fs::read_to_string(path).expect("readable");
     let mut definitions = BTreeMap::new();
     let mut current: Option<String> = None;

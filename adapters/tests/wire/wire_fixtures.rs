@@ -97,10 +97,10 @@ pub fn with_scenes() -> State {
     state
 }
 
-/// The text of `tests/data/{name}`.
+/// The text of `adapters/tests/data/{name}`.
 pub fn data(name: &str) -> String {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
+        .join("data")
         .join(name);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
