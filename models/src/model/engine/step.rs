@@ -5,7 +5,7 @@ use std::hash::{Hash, Hasher};
 
 use cooperation::{SceneId, State};
 use cooperation_adapters::engine::{self, Engine, Now};
-use cooperation_adapters::{wire, Time};
+use cooperation_adapters::{cdr, wire, Time};
 use stateright::Representative;
 
 /// A state of the engine model.
@@ -114,7 +114,8 @@ pub fn now_at(ms: u64) -> Now {
 }
 
 /// What the streams carry of `state`, short of stamps and ages: the two factor lists and the
-/// scenes, as the doors write them.
+/// scenes, in the CDR form the DDS door writes them in (every field's bits, so two contents are
+/// equal exactly when the messages are; cheaper to write than JSON, whose numbers are printed).
 #[must_use]
 pub fn content(state: &State) -> Vec<u8> {
     let stamp = Time::default();
@@ -122,8 +123,8 @@ pub fn content(state: &State) -> Vec<u8> {
     for scene in &mut scenes.scenes {
         scene.age_ms = 0;
     }
-    let mut bytes = wire::to_json(&wire::velocity_factors(state, stamp).factors);
-    bytes.extend(wire::to_json(&wire::steering_factors(state, stamp).factors));
-    bytes.extend(wire::to_json(&scenes.scenes));
+    let mut bytes = cdr::to_vec(&wire::velocity_factors(state, stamp).factors).unwrap_or_default();
+    bytes.extend(cdr::to_vec(&wire::steering_factors(state, stamp).factors).unwrap_or_default());
+    bytes.extend(cdr::to_vec(&scenes.scenes).unwrap_or_default());
     bytes
 }
