@@ -114,8 +114,8 @@ pub fn now_at(ms: u64) -> Now {
 }
 
 /// What the streams carry of `state`, short of stamps and ages: the two factor lists and the
-/// scenes, in the CDR form the DDS door writes them in (each number as its bits: cheaper to
-/// write than JSON, whose numbers are printed).
+/// scenes, in CDR, the encoding the DDS door writes messages in (each number as its bits:
+/// cheaper to write than JSON, whose numbers are printed).
 #[must_use]
 pub fn content(state: &State) -> Vec<u8> {
     let stamp = Time::default();
