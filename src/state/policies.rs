@@ -1,5 +1,6 @@
 //! Every configured module's policy.
 
+use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
 use crate::{Module, Policy};
@@ -12,7 +13,11 @@ use crate::{Module, Policy};
 ///
 /// The list is shared between clones until a policy in it changes: a state is cloned for every
 /// step a model checker takes, and its policies rarely change, so a clone allocates nothing.
-#[derive(Clone, PartialEq, Eq, Hash)]
+///
+/// Equality and the hash read only the configured slots (the others hold no policy): a model
+/// checker compares states after every step, and a slot at a time over every built-in module
+/// was most of a state's comparison.
+#[derive(Clone)]
 pub(super) struct Policies {
     builtin: [Option<Policy>; Module::COUNT],
     /// Bit `i` is set when `builtin[i]` holds a policy: listing skips the empty slots, most of
@@ -130,6 +135,37 @@ impl FromIterator<(Module, Policy)> for Policies {
     }
 }
 
+impl Policies {
+    /// The configured slots' policies, in slot order.
+    fn configured_slots(&self) -> impl Iterator<Item = Option<Policy>> + '_ {
+        let mut configured = self.configured;
+        core::iter::from_fn(move || {
+            let index = (configured != 0).then(|| configured.trailing_zeros() as usize)?;
+            configured &= configured - 1;
+            Some(self.builtin.get(index).copied().flatten())
+        })
+    }
+}
+
+impl PartialEq for Policies {
+    fn eq(&self, other: &Self) -> bool {
+        // The same slots configured, so every other slot holds no policy in either.
+        self.configured == other.configured
+            && self.configured_slots().eq(other.configured_slots())
+            && self.extensions == other.extensions
+    }
+}
+
+impl Eq for Policies {}
+
+impl Hash for Policies {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.configured.hash(state);
+        self.configured_slots().for_each(|slot| slot.hash(state));
+        self.extensions.hash(state);
+    }
+}
+
 impl core::fmt::Debug for Policies {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_map().entries(self.iter()).finish()
@@ -230,5 +266,62 @@ mod tests {
         }
         assert_eq!(policies.get(valet), Some(Policy::Required));
         assert_eq!(copy.get(valet), Some(Policy::Optional));
+    }
+
+    /// Equality and the hash read the configured slots only: policies made in another order
+    /// are equal and hash alike, and a different policy or module in any slot, built-in or
+    /// extension, makes them differ.
+    #[test]
+    fn equality_and_hash_are_by_the_configured_policies() {
+        use std::hash::BuildHasher;
+        let (crosswalk, merge) = (
+            Module::new(Behavior::Crosswalk),
+            Module::new(Behavior::Merge),
+        );
+        let valet = extension("valet", "");
+        let made = |list: &[(Module, Policy)]| list.iter().copied().collect::<Policies>();
+        let policies = made(&[
+            (crosswalk, Policy::Required),
+            (valet, Policy::Optional),
+            (merge, Policy::Optional),
+        ]);
+        let reordered = made(&[
+            (merge, Policy::Optional),
+            (crosswalk, Policy::Required),
+            (valet, Policy::Optional),
+        ]);
+        assert_eq!(policies, reordered);
+        let state = std::hash::RandomState::new();
+        assert_eq!(state.hash_one(&policies), state.hash_one(&reordered));
+        let others = [
+            made(&[
+                (crosswalk, Policy::Optional),
+                (valet, Policy::Optional),
+                (merge, Policy::Optional),
+            ]),
+            made(&[
+                (crosswalk, Policy::Required),
+                (valet, Policy::Required),
+                (merge, Policy::Optional),
+            ]),
+            made(&[(crosswalk, Policy::Required), (merge, Policy::Optional)]),
+            made(&[(crosswalk, Policy::Required), (valet, Policy::Optional)]),
+            made(&[
+                (Module::new(Behavior::Avoidance), Policy::Required),
+                (valet, Policy::Optional),
+                (merge, Policy::Optional),
+            ]),
+        ];
+        for other in &others {
+            assert_ne!(&policies, other, "{other:?}");
+        }
+        // The hash tells each of them apart from the policies too.
+        for other in &others {
+            assert_ne!(
+                state.hash_one(&policies),
+                state.hash_one(other),
+                "{other:?}"
+            );
+        }
     }
 }
