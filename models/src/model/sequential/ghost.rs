@@ -45,6 +45,9 @@ fn code(module: Module) -> u8 {
         .unwrap_or(UNLISTED)
 }
 
+// `Ghost::known` reads the owners eight at a time.
+const _: () = assert!(MAX_SCENES % 8 == 0);
+
 /// The code of a module the model does not list.
 const UNLISTED: u8 = u8::MAX;
 
@@ -71,11 +74,21 @@ impl Ghost {
     /// One past the index of the last identifier the history knows of (an owner or a
     /// retirement); every identifier from there on is unknown to it.
     pub(super) fn known(&self) -> usize {
+        // Read eight owners at a time, from the end: every renaming asks, and most owners are
+        // none.
         let owned = self
             .owners
-            .iter()
-            .rposition(|o| *o != 0)
-            .map_or(0, |i| i + 1);
+            .chunks_exact(8)
+            .enumerate()
+            .rev()
+            .find_map(|(word, owners)| {
+                let mut bytes = [0; 8];
+                bytes.copy_from_slice(owners);
+                let bits = u64::from_le_bytes(bytes);
+                // The last owner set in this word is its highest byte that is not zero.
+                (bits != 0).then(|| word * 8 + 8 - (bits.leading_zeros() / 8) as usize)
+            })
+            .unwrap_or(0);
         let retired = (u64::BITS - self.retired_ever.leading_zeros()) as usize;
         owned.max(retired)
     }
