@@ -16,7 +16,7 @@
 //! predecessor's menu, recorded when the predecessor is expanded.
 //!
 //! **Symmetry.** With symmetry, one state of each class of states equal up to renaming is kept,
-//! the representative ([`Representative`]), and arrivals and menus are written in its names.
+//! the representative ([`Step::canonical_step`]), and arrivals and menus are written in its names.
 //! An input is *symmetric* when every renaming of it is in the alphabet too; then the menu of a
 //! renamed state is the renamed menu, for those inputs. An input that is not (the over-limit
 //! batch, naming the first identifier) is also applied to every renaming of the
@@ -31,7 +31,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use cooperation::Rule;
-use stateright::{Model, Representative};
+use stateright::Model;
 
 use super::progress::{CoverageError, Found, Progress, MAX_COVERED_SCENES};
 use super::{named, renamed_input, Pairs, Scope, RULES};
@@ -334,7 +334,7 @@ impl Search<'_> {
     ) -> Result<(), CoverageError> {
         let (state, names) = if self.symmetry() {
             let names = after.representative_names();
-            (after.representative(), names)
+            (after.canonical_step(), names)
         } else {
             (after, identity())
         };
@@ -519,7 +519,7 @@ pub fn explore(
         .initial()
         .map_err(|e| CoverageError::Initial(e.to_string()))?;
     let initial = if symmetry {
-        initial.representative()
+        initial.canonical_step()
     } else {
         initial
     };

@@ -1,10 +1,10 @@
 //! Canonical states: symmetry reduction for breadth-first search.
 //!
-//! stateright applies a [`Representative`] only in its depth-first search, whose pending states
+//! stateright applies a [`Representative`](stateright::Representative) only in its depth-first search, whose pending states
 //! each carry their whole path, so its memory grows with the square of the depth. With
 //! canonical states on, [`next_state`](stateright::Model::next_state) itself returns each
 //! successor already renamed to its representative (the identifiers renamed `1, 2, …` in the
-//! order of their signatures, `Step`'s `Representative`): breadth-first search, which keeps
+//! order of their signatures, [`Step::canonical_step`]): breadth-first search, which keeps
 //! one fingerprint per state and a frontier as long as a level, then meets each class of
 //! states equal up to renaming once, as depth-first search with symmetry does. The classes,
 //! and so the unique and generated counts, are the same (`models/tests/canonical.rs`
@@ -15,7 +15,6 @@
 //! renaming through the same states up to renaming, which is what a trace records and replays.
 
 use cooperation::{Input, SceneId, TableLayout};
-use stateright::Representative;
 
 use super::step::{identity, Names};
 use super::{Action, SequentialModel, Step};
@@ -43,7 +42,7 @@ impl SequentialModel {
     pub(super) fn successor(&self, from: &Step, input: &Input) -> Step {
         let next = self.step(from, input);
         if self.canonical_states() {
-            next.representative()
+            next.canonical_step()
         } else {
             next
         }
@@ -75,7 +74,7 @@ impl SequentialModel {
                     .copied()
                     .unwrap_or(j)
             });
-            state = next.representative();
+            state = next.canonical_step();
         }
         raw
     }

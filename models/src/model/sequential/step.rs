@@ -39,16 +39,23 @@ pub struct Step {
     pub order_matters: bool,
     /// Whether stalled steps are fingerprinted by their rule alone (see [`Step`]).
     pub merge_stalled: bool,
+    /// Set on a representative only ([`Representative::representative`]): fingerprinted by
+    /// what renaming identifiers keeps, so that every renaming of a step has one fingerprint.
+    #[serde(skip)]
+    sorted: bool,
     /// Values derived from `core` and `ghost`, computed once and shared by every step with the
     /// same core and history (a stalled step shares its predecessor's).
     #[serde(skip)]
     derived: Arc<Derived>,
 }
 
-/// What is derived from a step's core and history: the core's fingerprint contribution, and
-/// (when symmetry reduction asks for it) the canonical renaming.
+/// What is derived from a step's core and history, each computed when first asked for: the
+/// core's fingerprint contribution, the fingerprint contribution of the core and history as
+/// renaming keeps them, and the canonical renaming.
 struct Derived {
-    core_hash: u64,
+    core_hash: OnceLock<u64>,
+    /// See [`Step::symmetric_hash`].
+    symmetric_hash: OnceLock<u64>,
     /// The canonical form, or `None` when the step is canonical already (a `Some(self)` would
     /// be a reference cycle).
     canonical: OnceLock<Option<Step>>,
@@ -65,7 +72,8 @@ impl Step {
         (order_matters, merge_stalled): (bool, bool),
     ) -> Self {
         let derived = Arc::new(Derived {
-            core_hash: core_hash(&core, order_matters),
+            core_hash: OnceLock::new(),
+            symmetric_hash: OnceLock::new(),
             canonical: OnceLock::new(),
             snapshot: OnceLock::new(),
         });
@@ -76,8 +84,41 @@ impl Step {
             stalled,
             order_matters,
             merge_stalled,
+            sorted: false,
             derived,
         }
+    }
+
+    /// The core's fingerprint contribution (see [`core_hash`]).
+    fn core_hash(&self) -> u64 {
+        *self
+            .derived
+            .core_hash
+            .get_or_init(|| core_hash(&self.core, self.order_matters))
+    }
+
+    /// The core and the history as renaming identifiers keeps them: the limits, the policies,
+    /// and the signatures of the identifiers anything is known of ([`Signature`]: everything
+    /// the core and the history hold of one identifier), sorted. Two steps have the same
+    /// signatures, sorted, exactly when one is the other renamed; so this is the fingerprint
+    /// contribution of their common representative, found without building it.
+    fn symmetric_hash(&self) -> u64 {
+        *self.derived.symmetric_hash.get_or_init(|| {
+            use std::hash::BuildHasher;
+            let core = &self.core;
+            let mut state = foldhash::quality::FixedState::with_seed(0x7379_6d6d).build_hasher();
+            core.limits().hash(&mut state);
+            core.policies().for_each(|setting| setting.hash(&mut state));
+            // Sorted with the identifiers nothing is known of last: those are left out (any
+            // renaming may name them differently), and the rest hashed in order.
+            for ((unknown, signature), _) in self.signed() {
+                if unknown {
+                    break;
+                }
+                signature.hash(&mut state);
+            }
+            state.finish()
+        })
     }
 
     /// The core as the spec's rules read it.
@@ -131,6 +172,7 @@ impl PartialEq for Step {
             && self.stalled == other.stalled
             && self.order_matters == other.order_matters
             && self.merge_stalled == other.merge_stalled
+            && self.sorted == other.sorted
     }
 }
 
@@ -143,8 +185,13 @@ impl Hash for Step {
         if self.stalled && self.merge_stalled {
             return;
         }
-        self.derived.core_hash.hash(state);
-        self.ghost.hash(state);
+        if self.sorted {
+            self.symmetric_hash().hash(state);
+            self.ghost.broken.hash(state);
+        } else {
+            self.core_hash().hash(state);
+            self.ghost.hash(state);
+        }
     }
 }
 
@@ -160,10 +207,25 @@ impl core::fmt::Debug for Step {
 }
 
 impl Representative for Step {
+    /// The same step marked to be fingerprinted as renaming keeps it
+    /// ([`Step::symmetric_hash`]): every renaming of it has the fingerprint of
+    /// [`Step::canonical_step`], which is not built. The checker only fingerprints a
+    /// representative (its depth-first search goes on from the step itself); a search that
+    /// goes on from representatives takes [`Step::canonical_step`].
+    fn representative(&self) -> Self {
+        Self {
+            sorted: true,
+            ..self.clone()
+        }
+    }
+}
+
+impl Step {
     /// Identifiers renamed `1, 2, …` in the order of everything known about them, so that all
     /// states equal up to renaming share one representative. The sort key is each identifier's
     /// whole signature, so the representative is canonical.
-    fn representative(&self) -> Self {
+    #[must_use]
+    pub fn canonical_step(&self) -> Self {
         if self.stalled && self.merge_stalled {
             // Fingerprinted by its rule alone: every renaming of it is the same state.
             return self.clone();
@@ -256,13 +318,12 @@ impl Step {
         names
     }
 
-    /// The renaming by which this step's representative
-    /// ([`Representative::representative`]) is this step: identifier `i + 1` here is
-    /// identifier `names[i] + 1` there.
+    /// The renaming by which this step's canonical form ([`Step::canonical_step`]) is this
+    /// step: identifier `i + 1` here is identifier `names[i] + 1` there.
     #[must_use]
     pub fn representative_names(&self) -> Names {
         if self.stalled && self.merge_stalled {
-            // Its own representative (see `representative`).
+            // Its own canonical form (see `canonical_step`).
             return identity();
         }
         let names = self.names();
