@@ -99,9 +99,9 @@ impl Step {
 
     /// The core and the history as renaming identifiers keeps them: the limits, the policies,
     /// and the signatures of the identifiers anything is known of ([`Signature`]: everything
-    /// the core and the history hold of one identifier), sorted. Two steps have the same
-    /// signatures, sorted, exactly when one is the other renamed; so this is the fingerprint
-    /// contribution of their common representative, found without building it.
+    /// the core and the history hold of one identifier), each hashed, sorted. Two steps have
+    /// the same signatures, sorted, exactly when one is the other renamed; so this is the
+    /// fingerprint contribution of their common representative, found without building it.
     fn symmetric_hash(&self) -> u64 {
         *self.derived.symmetric_hash.get_or_init(|| {
             use std::hash::BuildHasher;
@@ -109,14 +109,20 @@ impl Step {
             let mut state = foldhash::quality::FixedState::with_seed(0x7379_6d6d).build_hasher();
             core.limits().hash(&mut state);
             core.policies().for_each(|setting| setting.hash(&mut state));
-            // Sorted with the identifiers nothing is known of last: those are left out (any
-            // renaming may name them differently), and the rest hashed in order.
-            for ((unknown, signature), _) in self.signed() {
-                if unknown {
-                    break;
+            // Each signature as a digest, the digests sorted: the identifiers nothing is known
+            // of are left out (any renaming may name them differently).
+            let mut digests = [0_u64; MAX_SCENES];
+            let mut count = 0;
+            for ((unknown, signature), _) in self.signatures() {
+                if let (false, Some(slot)) = (unknown, digests.get_mut(count)) {
+                    *slot =
+                        foldhash::quality::FixedState::with_seed(0x7369_676e).hash_one(signature);
+                    count += 1;
                 }
-                signature.hash(&mut state);
             }
+            let digests = digests.get_mut(..count).unwrap_or_default();
+            digests.sort_unstable();
+            digests.hash(&mut state);
             state.finish()
         })
     }
@@ -272,6 +278,14 @@ pub fn identity() -> Names {
 impl Step {
     /// Every identifier's signature, sorted (see [`Signed`]).
     fn signed(&self) -> Signed<'_> {
+        let mut signed: Signed<'_> = self.signatures().collect();
+        signed.sort_unstable();
+        signed
+    }
+
+    /// The signature of every identifier up to the last one anything is known of, unsorted
+    /// (see [`Signed`]).
+    fn signatures(&self) -> impl Iterator<Item = ((bool, Signature<'_>), usize)> + '_ {
         let core = &self.core;
         let position = |id: SceneId| {
             if self.order_matters {
@@ -289,22 +303,18 @@ impl Step {
             .filter_map(index)
             .map(|i| i + 1)
             .fold(self.ghost.known(), usize::max);
-        let mut signed: Signed<'_> = (0..known.min(MAX_SCENES))
-            .map(|i| {
-                let id = SceneId::from_u128(i as u128 + 1);
-                let signature = (
-                    core.scene(id),
-                    core.retirement(id),
-                    self.ghost.owner(id),
-                    self.ghost.was_retired(id),
-                    position(id),
-                );
-                let unknown = signature == (None, None, None, false, None);
-                ((unknown, signature), i)
-            })
-            .collect();
-        signed.sort_unstable();
-        signed
+        (0..known.min(MAX_SCENES)).map(move |i| {
+            let id = SceneId::from_u128(i as u128 + 1);
+            let signature = (
+                core.scene(id),
+                core.retirement(id),
+                self.ghost.owner(id),
+                self.ghost.was_retired(id),
+                position(id),
+            );
+            let unknown = signature == (None, None, None, false, None);
+            ((unknown, signature), i)
+        })
     }
 
     /// The renaming that sorts identifiers by their signatures (see [`Signed`]).
