@@ -213,11 +213,11 @@ impl core::fmt::Debug for Step {
 }
 
 impl Representative for Step {
-    /// The same step marked to be fingerprinted as renaming keeps it
-    /// ([`Step::symmetric_hash`]): every renaming of it has the fingerprint of
-    /// [`Step::canonical_step`], which is not built. The checker only fingerprints a
-    /// representative (its depth-first search goes on from the step itself); a search that
-    /// goes on from representatives takes [`Step::canonical_step`].
+    /// The same step marked to be fingerprinted as renaming keeps it (the limits, the
+    /// policies, and the known identifiers' signatures, sorted): every renaming of it has the
+    /// fingerprint of [`Step::canonical_step`], which is not built. The checker only
+    /// fingerprints a representative (its depth-first search goes on from the step itself); a
+    /// search that goes on from representatives takes [`Step::canonical_step`].
     fn representative(&self) -> Self {
         Self {
             sorted: true,
