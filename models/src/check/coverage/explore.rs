@@ -16,8 +16,8 @@
 //! predecessor's menu, recorded when the predecessor is expanded.
 //!
 //! **Symmetry.** With symmetry, one state of each class of states equal up to renaming is kept,
-//! the representative ([`Step::canonical_step`]), and arrivals and menus are written in its names.
-//! An input is *symmetric* when every renaming of it is in the alphabet too; then the menu of a
+//! its canonical form ([`Step::canonical_step`]), and arrivals and menus are written in its
+//! names. An input is *symmetric* when every renaming of it is in the alphabet too; then the menu of a
 //! renamed state is the renamed menu, for those inputs. An input that is not (the over-limit
 //! batch, naming the first identifier) is also applied to every renaming of the
 //! representative, and its menu entries and arrivals are kept per renaming (*slot*). See `docs/verification.md`,

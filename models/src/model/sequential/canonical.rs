@@ -1,10 +1,11 @@
 //! Canonical states: symmetry reduction for breadth-first search.
 //!
-//! stateright applies a [`Representative`](stateright::Representative) only in its depth-first search, whose pending states
-//! each carry their whole path, so its memory grows with the square of the depth. With
-//! canonical states on, [`next_state`](stateright::Model::next_state) itself returns each
-//! successor already renamed to its representative (the identifiers renamed `1, 2, …` in the
-//! order of their signatures, [`Step::canonical_step`]): breadth-first search, which keeps
+//! stateright applies a [`Representative`](stateright::Representative) only in its
+//! depth-first search, whose pending states each carry their whole path, so its memory grows
+//! with the square of the depth. With canonical states on,
+//! [`next_state`](stateright::Model::next_state) itself returns each successor already renamed
+//! to its canonical form (the identifiers renamed `1, 2, …` in the order of their signatures,
+//! [`Step::canonical_step`]): breadth-first search, which keeps
 //! one fingerprint per state and a frontier as long as a level, then meets each class of
 //! states equal up to renaming once, as depth-first search with symmetry does. The classes,
 //! and so the unique and generated counts, are the same (`models/tests/canonical.rs`
