@@ -4,10 +4,10 @@
 //! inputs that replay on the model without renaming (every planted fault's, too:
 //! `models/tests/faults.rs`).
 
-use cooperation_models::check::pins::{self, Pin};
-use cooperation_models::check::run::{check, Report, Settings, Strategy};
 use std::collections::{HashMap, VecDeque};
 
+use cooperation_models::check::pins::{self, Pin};
+use cooperation_models::check::run::{check, Report, Settings, Strategy};
 use cooperation_models::model::sequential::{identity, Names};
 use cooperation_models::{Bounds, SequentialModel, Step as SequentialStep};
 use stateright::{Model, Representative};
@@ -144,8 +144,8 @@ fn a_canonical_path_replays_unrenamed() {
 
 /// The fingerprint the checker takes of a step's representative is its class's: over the
 /// first 3,000 canonical states breadth first at 2 × 3 (stalled ones aside, fingerprinted by
-/// their rule), every renaming of a state has its fingerprint, and two states have the same
-/// fingerprint only if they are the same canonical state.
+/// their rule), every renaming of a state has its fingerprint, and two states' representatives
+/// have the same fingerprint exactly when the canonical states themselves hash alike.
 #[test]
 // A step's cells cache what its parts give (see `Step`); its hash and equality never change.
 #[allow(clippy::mutable_key_type)]
