@@ -177,10 +177,11 @@ pub(super) fn against_spec(
     (result, core, unchanged): (&Result<Transition, Rejection>, &State, bool),
 ) -> Broken {
     let mut broken = Broken::default();
-    let expected = verdict(&tables.lifecycle, from.snapshot(), input);
+    let before = from.snapshot();
+    let expected = verdict(&tables.lifecycle, before, input);
     broken.set(
         Broken::rule(expected.rule),
-        !expected.agrees(result, unchanged, core),
+        !expected.agrees(before, result, unchanged, core),
     );
     if let Input::Update {
         id,

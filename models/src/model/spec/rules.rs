@@ -455,12 +455,14 @@ fn set_policies(before: &Snapshot, settings: &[PolicySetting]) -> Result<Verdict
 
 impl Verdict {
     /// Whether the library's result and the state it left agree with this verdict: the same
-    /// rule; for an accepted input the same transition and the spec's next state; for a
+    /// rule; for an accepted input the same transition and the spec's next state, and the
+    /// state changed exactly when the spec's next state differs from `before`; for a
     /// rejection the same rejection and the state unchanged (`unchanged`: the state after the
     /// input equals the state before it, which the caller has compared once for all its uses).
     #[must_use]
     pub fn agrees(
         &self,
+        before: &Snapshot,
         result: &Result<cooperation::Transition, Rejection>,
         unchanged: bool,
         after: &State,
@@ -472,7 +474,9 @@ impl Verdict {
         rule == self.rule
             && match (&self.outcome, result) {
                 (Ok((next, retired)), Ok(transition)) => {
-                    transition.retired == *retired && next.matches(after)
+                    transition.retired == *retired
+                        && next.matches(after)
+                        && unchanged == (next == before)
                 }
                 (Err(expected), Err(rejection)) => rejection == expected && unchanged,
                 _ => false,
