@@ -12,6 +12,8 @@
 // step of a check.
 #![allow(clippy::result_large_err)]
 
+use std::sync::Arc;
+
 use cooperation::{
     Command, CommandFailure, CommandOutcome, Decision, Detail, FactorKind, Geometry, Input, Limits,
     Module, OperatorDecision, Phase, Policy, PolicySetting, Rejection, Report, RetireReason,
@@ -42,16 +44,20 @@ pub struct SceneRecord {
 }
 
 /// The whole state as spec §3 lists its variables.
+///
+/// The policies and the retired identifiers are shared between a snapshot and the copies the
+/// rules make of it until a rule changes them: most inputs change neither, and the model
+/// copies the snapshot for every accepted input.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
     /// The limits.
     pub limits: Limits,
     /// Every configured module's policy, in module order.
-    pub policies: Vec<(Module, Policy)>,
+    pub policies: Arc<Vec<(Module, Policy)>>,
     /// The live scenes, in identifier order.
     pub scenes: Vec<(SceneId, SceneRecord)>,
     /// The retired identifiers, oldest retirement first.
-    pub retired: Vec<(SceneId, Retirement)>,
+    pub retired: Arc<Vec<(SceneId, Retirement)>>,
 }
 
 impl Snapshot {
@@ -61,9 +67,9 @@ impl Snapshot {
         let scenes = state.scenes().map(|(id, scene)| (id, record(scene)));
         Self {
             limits: state.limits(),
-            policies: state.policies().map(|p| (p.module, p.policy)).collect(),
+            policies: Arc::new(state.policies().map(|p| (p.module, p.policy)).collect()),
             scenes: scenes.collect(),
-            retired: state.retired_oldest_first().collect(),
+            retired: Arc::new(state.retired_oldest_first().collect()),
         }
     }
 
@@ -120,14 +126,15 @@ impl Snapshot {
             return;
         };
         let (_, scene) = self.scenes.remove(at);
-        while self.retired.len() >= self.limits.retired_capacity && !self.retired.is_empty() {
-            self.retired.remove(0);
+        let retired = Arc::make_mut(&mut self.retired);
+        while retired.len() >= self.limits.retired_capacity && !retired.is_empty() {
+            retired.remove(0);
         }
         let retirement = Retirement {
             module: scene.module,
             reason,
         };
-        self.retired.push((id, retirement));
+        retired.push((id, retirement));
     }
 }
 
@@ -444,7 +451,7 @@ fn set_policies(before: &Snapshot, settings: &[PolicySetting]) -> Result<Verdict
     }
     let mut after = before.clone();
     for setting in settings {
-        for (module, policy) in &mut after.policies {
+        for (module, policy) in Arc::make_mut(&mut after.policies).iter_mut() {
             if *module == setting.module {
                 *policy = setting.policy;
             }
