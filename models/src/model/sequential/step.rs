@@ -99,9 +99,10 @@ impl Step {
 
     /// The core and the history as renaming identifiers keeps them: the limits, the policies,
     /// and the signatures of the identifiers anything is known of ([`Signature`]: everything
-    /// the core and the history hold of one identifier), each hashed, sorted. Two steps have
-    /// the same signatures, sorted, exactly when one is the other renamed; so this is the
-    /// fingerprint contribution of their common representative, found without building it.
+    /// the core and the history hold of one identifier), each hashed, the digests summed. Two
+    /// steps have the same signatures, in some order, exactly when one is the other renamed;
+    /// the sum does not depend on the order, so this is the fingerprint contribution of their
+    /// common representative, found without building it.
     fn symmetric_hash(&self) -> u64 {
         *self.derived.symmetric_hash.get_or_init(|| {
             use std::hash::BuildHasher;
@@ -109,20 +110,19 @@ impl Step {
             let mut state = foldhash::quality::FixedState::with_seed(0x7379_6d6d).build_hasher();
             core.limits().hash(&mut state);
             core.policies().for_each(|setting| setting.hash(&mut state));
-            // Each signature as a digest, the digests sorted: the identifiers nothing is known
+            // Each signature as a digest, the digests summed with their number (a multiset's
+            // hash, whatever order the identifiers come in): the identifiers nothing is known
             // of are left out (any renaming may name them differently).
-            let mut digests = [0_u64; MAX_SCENES];
-            let mut count = 0;
+            let (mut count, mut sum) = (0_u64, 0_u64);
             for ((unknown, signature), _) in self.signatures() {
-                if let (false, Some(slot)) = (unknown, digests.get_mut(count)) {
-                    *slot =
+                if !unknown {
+                    let digest =
                         foldhash::quality::FixedState::with_seed(0x7369_676e).hash_one(signature);
+                    sum = sum.wrapping_add(digest);
                     count += 1;
                 }
             }
-            let digests = digests.get_mut(..count).unwrap_or_default();
-            digests.sort_unstable();
-            digests.hash(&mut state);
+            (count, sum).hash(&mut state);
             state.finish()
         })
     }
