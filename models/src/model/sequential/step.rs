@@ -42,7 +42,7 @@ pub struct Step {
     /// Set on a representative only ([`Representative::representative`]): fingerprinted by
     /// what renaming identifiers keeps, so that every renaming of a step has one fingerprint.
     #[serde(skip)]
-    sorted: bool,
+    symmetric: bool,
     /// Values derived from `core` and `ghost`, computed once and shared by every step with the
     /// same core and history (a stalled step shares its predecessor's).
     #[serde(skip)]
@@ -84,7 +84,7 @@ impl Step {
             stalled,
             order_matters,
             merge_stalled,
-            sorted: false,
+            symmetric: false,
             derived,
         }
     }
@@ -178,7 +178,7 @@ impl PartialEq for Step {
             && self.stalled == other.stalled
             && self.order_matters == other.order_matters
             && self.merge_stalled == other.merge_stalled
-            && self.sorted == other.sorted
+            && self.symmetric == other.symmetric
     }
 }
 
@@ -191,7 +191,7 @@ impl Hash for Step {
         if self.stalled && self.merge_stalled {
             return;
         }
-        if self.sorted {
+        if self.symmetric {
             self.symmetric_hash().hash(state);
             self.ghost.broken.hash(state);
         } else {
@@ -214,13 +214,13 @@ impl core::fmt::Debug for Step {
 
 impl Representative for Step {
     /// The same step marked to be fingerprinted as renaming keeps it (the limits, the
-    /// policies, and the known identifiers' signatures, sorted): every renaming of it has the
-    /// fingerprint of [`Step::canonical_step`], which is not built. The checker only
+    /// policies, and the known identifiers' signatures, in any order): every renaming of it has
+    /// the fingerprint of [`Step::canonical_step`], which is not built. The checker only
     /// fingerprints a representative (its depth-first search goes on from the step itself); a
     /// search that goes on from representatives takes [`Step::canonical_step`].
     fn representative(&self) -> Self {
         Self {
-            sorted: true,
+            symmetric: true,
             ..self.clone()
         }
     }
