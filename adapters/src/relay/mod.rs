@@ -24,7 +24,9 @@
 
 mod error;
 pub mod factors;
+mod forward;
 mod link;
+mod operator;
 mod pending;
 
 pub use error::{ArrayError, ArrayTaken, RelayRefusal};
@@ -33,16 +35,16 @@ pub use link::{Correction, Link, Seen};
 use std::collections::{BTreeMap, VecDeque};
 use std::hash::{Hash, Hasher};
 
-use cooperation::{Decision, Input, OperatorDecision, Phase, Policy, SceneId, State};
+use cooperation::{Decision, OperatorDecision, Phase, SceneId, State};
 
 use crate::engine::{Engine, Now, Publication};
 use crate::rtc::{
     self, AutoModeRequest, AutoModeStatus, Binding, CooperateCommand, CooperateCommandsRequest,
     CooperateCommandsResponse, CooperateStatusArray, RtcError, StatusReport,
 };
-use crate::wire::{self, ResponseStatus};
+use crate::wire;
 use crate::{Host, Time};
-use pending::{Outcome, Part, Pending};
+use pending::Pending;
 
 /// How long a module has to answer a forwarded call unless the host says otherwise, in
 /// milliseconds.
@@ -317,298 +319,6 @@ impl Relay {
         Ok(())
     }
 
-    /// An operator's AD API call, made at `now`: its answer at once if it needs no module (a
-    /// refusal, `get_policies`, an empty batch), else `None`, and the answer comes from
-    /// [`poll_answer`](Self::poll_answer) once the modules have answered
-    /// (`[COOP-RELAY-FORWARD.1]`).
-    pub fn handle_operator(
-        &mut self,
-        call: OperatorCall,
-        request: &wire::Request,
-        now: Now,
-    ) -> Option<wire::Response> {
-        self.engine.handle_timeout(now);
-        match request {
-            wire::Request::GetPolicies(request) => Some(wire::Response::GetPolicies(
-                wire::get_policies(self.state(), request),
-            )),
-            wire::Request::SetCommands(request) => {
-                self.set_commands(call, request, now).err().map(|status| {
-                    wire::Response::SetCommands(wire::SetCooperationCommandsResponse { status })
-                })
-            }
-            wire::Request::SetPolicies(request) => {
-                self.set_policies(call, request).err().map(|status| {
-                    wire::Response::SetPolicies(wire::SetCooperationPoliciesResponse { status })
-                })
-            }
-        }
-    }
-
-    /// Forwards a `set_commands` the core accepts, or says why not (`Err` is the answer).
-    fn set_commands(
-        &mut self,
-        operator: OperatorCall,
-        request: &wire::SetCooperationCommandsRequest,
-        now: Now,
-    ) -> Result<(), ResponseStatus> {
-        let commands = request.to_commands().map_err(|m| m.to_status())?;
-        let mut trial = self.state().clone();
-        let checked = trial.apply(&Input::SetCommands {
-            commands: commands.clone(),
-        });
-        if checked.is_err() || commands.is_empty() {
-            return Err(ResponseStatus::for_batch(commands.len(), &checked));
-        }
-        // [COOP-RELAY-INEXPRESSIBLE.1]
-        for (index, command) in commands.iter().enumerate() {
-            if !EXPRESSIBLE.contains(&command.decision) {
-                return Err(refusal(&RelayRefusal::Inexpressible {
-                    index,
-                    id: command.id,
-                    decision: command.decision,
-                }));
-            }
-        }
-        let mut by_interface: BTreeMap<String, Vec<CooperateCommand>> = BTreeMap::new();
-        let mut parts = Vec::with_capacity(commands.len());
-        for (index, &command) in commands.iter().enumerate() {
-            let binding = self
-                .engine
-                .host()
-                .rtc()
-                .owner(self.state(), command.id)
-                .cloned();
-            let Some(binding) = binding else {
-                return Err(refusal(&RelayRefusal::NoModule {
-                    index,
-                    id: command.id,
-                }));
-            };
-            let decision = match command.decision {
-                OperatorDecision::Activate => Decision::Activate,
-                _ => Decision::Deactivate,
-            };
-            by_interface
-                .entry(binding.name.clone())
-                .or_default()
-                .push(rtc_command(&binding, command.id, decision));
-            parts.push(Part {
-                item: command,
-                interface: binding.name,
-                call: CallId(0),
-                outcome: Outcome::Awaited,
-            });
-        }
-        for (interface, commands) in by_interface {
-            let request = ModuleRequest::Commands(CooperateCommandsRequest {
-                stamp: now.stamp,
-                commands,
-            });
-            let id = self.queue(interface.clone(), request, Purpose::Operator(operator));
-            for part in parts.iter_mut().filter(|p| p.interface == interface) {
-                part.call = id;
-            }
-        }
-        self.operators.insert(operator, Pending::Commands(parts));
-        Ok(())
-    }
-
-    /// Forwards a `set_policies` the core accepts as auto-mode switches, or says why not.
-    fn set_policies(
-        &mut self,
-        operator: OperatorCall,
-        request: &wire::SetCooperationPoliciesRequest,
-    ) -> Result<(), ResponseStatus> {
-        let policies = request.to_policies().map_err(|m| m.to_status())?;
-        let mut trial = self.state().clone();
-        let checked = trial.apply(&Input::SetPolicies {
-            policies: policies.clone(),
-        });
-        if checked.is_err() || policies.is_empty() {
-            return Err(ResponseStatus::for_batch(policies.len(), &checked));
-        }
-        let mut switched = Vec::new();
-        for binding in self.engine.host().rtc().bindings() {
-            if !policies
-                .iter()
-                .any(|setting| binding.modules().any(|m| m == setting.module))
-            {
-                continue;
-            }
-            // [COOP-RELAY-INEXPRESSIBLE.1]
-            let Some(policy) = link::interface_policy(&trial, binding) else {
-                return Err(refusal(&RelayRefusal::MixedPolicies {
-                    interface: binding.name.clone(),
-                }));
-            };
-            // An interface not heard from is switched when it is (`[COOP-RELAY-FOLLOW.1]`).
-            if !self.links.get(&binding.name).is_some_and(Link::heard) {
-                continue;
-            }
-            switched.push((binding.name.clone(), policy == Policy::Optional));
-        }
-        if switched.is_empty() {
-            // No module to tell: the core's alone.
-            let len = policies.len();
-            let input = Input::SetPolicies { policies };
-            let (result, _) = self.engine.call(|host| host.state_mut().apply(&input));
-            return Err(ResponseStatus::for_batch(len, &result));
-        }
-        let parts = switched
-            .into_iter()
-            .map(|(interface, enable)| {
-                let request = ModuleRequest::AutoMode(AutoModeRequest { enable });
-                let call = self.queue(interface.clone(), request, Purpose::Operator(operator));
-                Part {
-                    item: enable,
-                    interface,
-                    call,
-                    outcome: Outcome::Awaited,
-                }
-            })
-            .collect();
-        self.operators
-            .insert(operator, Pending::Policies(policies, parts));
-        Ok(())
-    }
-
-    fn queue(&mut self, interface: String, request: ModuleRequest, purpose: Purpose) -> CallId {
-        let id = CallId(self.next_call);
-        self.next_call += 1;
-        if let Some(link) = self.links.get_mut(&interface) {
-            link.fresh = false;
-        }
-        self.queued.push_back((
-            id,
-            Call {
-                interface,
-                request,
-                purpose,
-            },
-        ));
-        id
-    }
-
-    /// The next call to send, at `now`: the first queued to a module with no call unanswered
-    /// (so a module takes the relay's calls in the order they were made).
-    pub fn poll_forward(&mut self, now: Now) -> Option<Forward> {
-        // A switch of the relay's own that the module has been heard to have taken since it was
-        // queued is not sent: each switch overwrites the module's standing decisions for a
-        // moment (`[COOP-RELAY-FOLLOW.1]`).
-        let links = &self.links;
-        self.queued.retain(|(_, call)| {
-            let moot = |enable: bool| {
-                links
-                    .get(&call.interface)
-                    .is_some_and(|link| link.auto_mode == Some(enable))
-            };
-            !(call.purpose == Purpose::Correction
-                && matches!(&call.request, ModuleRequest::AutoMode(request) if moot(request.enable)))
-        });
-        let at = self.queued.iter().position(|(_, call)| {
-            !self
-                .flights
-                .values()
-                .any(|(flight, _)| flight.interface == call.interface)
-        })?;
-        let (id, call) = self.queued.remove(at)?;
-        let deadline_ms = i64::try_from(self.deadline_ms).unwrap_or(i64::MAX);
-        let deadline = now
-            .reading_ns
-            .saturating_add(deadline_ms.saturating_mul(1_000_000));
-        let forward = Forward {
-            call: id,
-            interface: call.interface.clone(),
-            request: call.request.clone(),
-        };
-        self.flights.insert(id, (call, deadline));
-        Some(forward)
-    }
-
-    /// A module's answer to call `call`, at `now`. An answer to a call that ran out of time, or
-    /// of the other kind, is not taken (`false`).
-    pub fn take_answer(&mut self, call: CallId, answer: &ModuleAnswer, now: Now) -> bool {
-        self.engine.handle_timeout(now);
-        let Some((flight, _)) = self.flights.remove(&call) else {
-            return false;
-        };
-        let taken = match (&flight.request, answer) {
-            (ModuleRequest::Commands(request), ModuleAnswer::Commands(response)) => {
-                // One response per command, in order, naming its command's scene.
-                let successes: Vec<(SceneId, bool)> =
-                    if response.responses.len() == request.commands.len() {
-                        request
-                            .commands
-                            .iter()
-                            .zip(&response.responses)
-                            .map(|(c, r)| (SceneId::from(c.uuid), r.success && r.uuid == c.uuid))
-                            .collect()
-                    } else {
-                        Vec::new()
-                    };
-                if let Purpose::Operator(operator) = flight.purpose {
-                    if let Some(pending) = self.operators.get_mut(&operator) {
-                        pending.commands_answered(call, &successes);
-                    }
-                }
-                true
-            }
-            (ModuleRequest::AutoMode(request), ModuleAnswer::AutoMode(success)) => {
-                if let Purpose::Operator(operator) = flight.purpose {
-                    if let Some(pending) = self.operators.get_mut(&operator) {
-                        pending.auto_mode_answered(call, *success);
-                    }
-                }
-                if *success {
-                    // The module says it switched: its auto-mode status, which may come after
-                    // the next status array, is not waited for, so that the switch is not sent
-                    // again (each switch overwrites the standing decisions for a moment).
-                    if let Some(link) = self.links.get_mut(&flight.interface) {
-                        link.auto_mode = Some(request.enable);
-                    }
-                    self.resend_standing(&flight.interface);
-                }
-                true
-            }
-            _ => {
-                // An answer of the other kind is no answer: the call runs out of time.
-                self.flights.insert(call, (flight, i64::MIN));
-                self.handle_timeout(now);
-                return false;
-            }
-        };
-        if let Purpose::Operator(operator) = flight.purpose {
-            self.finish(operator);
-        }
-        self.correct(&flight.interface);
-        taken
-    }
-
-    /// After an auto-mode switch, the interface's standing operator decisions again
-    /// (`[COOP-RELAY-POLICY.1]`).
-    fn resend_standing(&mut self, interface: &str) {
-        let Some(binding) = self.binding(interface).cloned() else {
-            return;
-        };
-        let Some(link) = self.links.get(interface) else {
-            return;
-        };
-        let standing = link.standing(self.state());
-        if standing.is_empty() {
-            return;
-        }
-        let commands = standing
-            .into_iter()
-            .map(|(id, decision)| rtc_command(&binding, id, decision))
-            .collect();
-        let request = ModuleRequest::Commands(CooperateCommandsRequest {
-            stamp: crate::Time::default(),
-            commands,
-        });
-        self.queue(interface.to_owned(), request, Purpose::Correction);
-    }
-
     /// Time between messages: calls past their deadline are unanswered, the core is told the
     /// time, and every idle module is corrected.
     pub fn handle_timeout(&mut self, now: Now) {
@@ -634,118 +344,6 @@ impl Relay {
         for name in names {
             self.correct(&name);
         }
-    }
-
-    /// The next operator's answer that is ready.
-    pub fn poll_answer(&mut self) -> Option<(OperatorCall, wire::Response)> {
-        self.answers.pop_front()
-    }
-
-    /// Whether a call to `interface` is queued or unanswered, or an operator's call awaits it.
-    fn busy(&self, interface: &str) -> bool {
-        self.queued.iter().any(|(_, c)| c.interface == interface)
-            || self.flights.values().any(|(c, _)| c.interface == interface)
-            || self.operators.values().any(|p| p.awaits(interface))
-    }
-
-    /// Sends `interface` what makes it drive as the core decides, if it is idle and its newest
-    /// status array came after its last answer (`[COOP-RELAY-FOLLOW.1]`).
-    fn correct(&mut self, interface: &str) {
-        if self.busy(interface) {
-            return;
-        }
-        let (Some(link), Some(binding)) = (self.links.get(interface), self.binding(interface))
-        else {
-            return;
-        };
-        if !link.fresh {
-            return;
-        }
-        let Some(correction) = link.correction(self.state(), binding) else {
-            return;
-        };
-        let request = match correction {
-            Correction::AutoMode(enable) => ModuleRequest::AutoMode(AutoModeRequest { enable }),
-            Correction::Commands(commands) => {
-                let binding = binding.clone();
-                ModuleRequest::Commands(CooperateCommandsRequest {
-                    stamp: crate::Time::default(),
-                    commands: commands
-                        .into_iter()
-                        .map(|(id, decision)| rtc_command(&binding, id, decision))
-                        .collect(),
-                })
-            }
-        };
-        self.queue(interface.to_owned(), request, Purpose::Correction);
-    }
-
-    /// Answers an operator's call whose parts are all settled: what the modules took is applied
-    /// to the core, and the answer says success only if that is everything
-    /// (`[COOP-RELAY-SUCCESS.1]`).
-    fn finish(&mut self, operator: OperatorCall) {
-        if !self.operators.get(&operator).is_some_and(Pending::is_done) {
-            return;
-        }
-        let Some(pending) = self.operators.remove(&operator) else {
-            return;
-        };
-        let response = match pending {
-            Pending::Commands(parts) => {
-                let mut failures = Vec::new();
-                for part in parts.iter().filter(|p| p.outcome == Outcome::Accepted) {
-                    let input = Input::SetCommands {
-                        commands: vec![part.item],
-                    };
-                    if let (Err(rejection), _) =
-                        self.engine.call(|host| host.state_mut().apply(&input))
-                    {
-                        failures.push(format!(
-                            "the core refused scene {}: {rejection}",
-                            part.item.id
-                        ));
-                    }
-                }
-                let status = pending::status(&parts, &failures, self.deadline_ms, |c| {
-                    format!("scene {}", c.id)
-                });
-                wire::Response::SetCommands(wire::SetCooperationCommandsResponse { status })
-            }
-            Pending::Policies(settings, parts) => {
-                let rtc = self.engine.host().rtc();
-                // A setting applies when every interface of its module took the switch.
-                let taken: Vec<cooperation::PolicySetting> = settings
-                    .iter()
-                    .filter(|setting| {
-                        parts.iter().all(|part| {
-                            part.outcome == Outcome::Accepted
-                                || !rtc.bindings().iter().any(|b| {
-                                    b.name == part.interface
-                                        && b.modules().any(|m| m == setting.module)
-                                })
-                        })
-                    })
-                    .copied()
-                    .collect();
-                let input = Input::SetPolicies {
-                    policies: taken.clone(),
-                };
-                let mut failures = Vec::new();
-                if let (Err(rejection), _) = self.engine.call(|host| host.state_mut().apply(&input))
-                {
-                    failures.push(format!("the core refused the policies: {rejection}"));
-                }
-                let status = if failures.is_empty() && taken.len() == settings.len() {
-                    ResponseStatus::success()
-                } else {
-                    pending::status(&parts, &failures, self.deadline_ms, |enable| {
-                        format!("auto mode {}", if *enable { "on" } else { "off" })
-                    })
-                };
-                wire::Response::SetPolicies(wire::SetCooperationPoliciesResponse { status })
-            }
-        };
-        self.answers.push_back((operator, response));
     }
 }
 
@@ -833,14 +431,5 @@ fn rtc_command(binding: &Binding, id: SceneId, decision: Decision) -> CooperateC
             Decision::Activate => rtc::Command::ACTIVATE,
             Decision::Deactivate => rtc::Command::DEACTIVATE,
         }),
-    }
-}
-
-/// The status of a call the relay refuses.
-fn refusal(refusal: &RelayRefusal) -> ResponseStatus {
-    ResponseStatus {
-        success: false,
-        code: ResponseStatus::PARAMETER_ERROR,
-        message: refusal.to_string(),
     }
 }
