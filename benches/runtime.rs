@@ -1,10 +1,10 @@
 //! Runtime benchmarks: the library against an upstream-style linear registry, in the same run.
 //!
 //! `cargo bench --bench runtime` times four groups, each with the library (`library`) and the
-//! baseline (`baseline`, [`workload::LinearRegistry`]) side by side:
+//! baseline (`baseline`, [`workload::baseline::LinearRegistry`]) side by side:
 //!
 //! - `cycle/N`: one planning cycle with N live scenes over 8 modules; here also
-//!   `baseline-per-module` ([`workload::PerModuleRegistry`]);
+//!   `baseline-per-module` ([`workload::baseline::PerModuleRegistry`]);
 //! - `phase/{update,query,outputs}/N`: the three parts of that cycle timed one by one, at
 //!   N = 1 000 and 10 000;
 //! - `commands/K`: one `set_commands` batch of K commands, 10 000 live scenes;
@@ -26,7 +26,8 @@ use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
 
 mod workload;
 
-use workload::{LinearRegistry, Outputs, PerModuleRegistry, Planner, Registry, MODULES};
+use workload::baseline::{LinearRegistry, PerModuleRegistry};
+use workload::{Outputs, Planner, Registry, MODULES};
 
 #[global_allocator]
 static GLOBAL: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
