@@ -47,15 +47,24 @@ fn enclosing_function(lines: &[&str], at: usize) -> String {
         .iter()
         .take(at + 1)
         .rev()
-        .find_map(|line| {
-            let rest = line.trim_start().split("fn ").nth(1)?;
-            let is_fn = line.trim_start().starts_with("fn ")
-                || line.trim_start().starts_with("pub fn ")
-                || line.trim_start().starts_with("pub const fn ")
-                || line.trim_start().starts_with("const fn ");
-            is_fn.then(|| rest.split(['(', '<']).next().unwrap_or(rest).to_owned())
-        })
+        .find_map(|line| function_name(line))
         .unwrap_or_else(|| "(item)".to_owned())
+}
+
+/// The name a line declares if it starts a function (`fn`, `const fn`, each maybe with a
+/// visibility: `pub`, `pub(crate)`, `pub(super)`).
+fn function_name(line: &str) -> Option<String> {
+    let mut rest = line.trim_start();
+    if let Some(after) = rest.strip_prefix("pub") {
+        rest = match after.strip_prefix('(') {
+            Some(scope) => scope.split_once(')')?.1,
+            None => after,
+        }
+        .trim_start();
+    }
+    let rest = rest.strip_prefix("const ").unwrap_or(rest);
+    let rest = rest.strip_prefix("fn ")?;
+    Some(rest.split(['(', '<']).next().unwrap_or(rest).to_owned())
 }
 
 /// The name of the item a doc comment at `at` documents: the first line after it that is not
@@ -73,7 +82,7 @@ fn documented_item(lines: &[&str], at: usize) -> String {
         .skip_while(|w| {
             matches!(
                 *w,
-                "pub" | "const" | "fn" | "struct" | "enum" | "impl" | "crate"
+                "pub" | "crate" | "super" | "const" | "fn" | "struct" | "enum" | "impl"
             )
         });
     words.next().unwrap_or("(item)").to_owned()

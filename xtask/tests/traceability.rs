@@ -58,3 +58,22 @@ fn a_rule_with_only_reachability_is_a_gap() {
         "{found:?}"
     );
 }
+
+/// A tag is placed on the function it sits in or documents, whatever that function's
+/// visibility: `pub(super) fn finish` is `finish`, not `super`.
+#[test]
+fn a_restricted_function_is_named_by_its_name() {
+    let rows = rows(root());
+    let names: Vec<&String> = rows.iter().flat_map(|r| &r.code).collect();
+    assert!(
+        names
+            .iter()
+            .all(|name| !name.ends_with("::super") && !name.ends_with("::crate")),
+        "{names:?}"
+    );
+    let success = rows
+        .iter()
+        .find(|r| r.tag == "COOP-RELAY-SUCCESS.1")
+        .expect("the relay's success rule");
+    assert_eq!(success.code, ["adapters/src/relay/operator.rs::finish"]);
+}
