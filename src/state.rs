@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::table::IdTable;
 #[cfg(feature = "verification")]
 use crate::table::TableLayout;
-use policies::Policies;
+use policies::{Policies, Slot};
 
 use crate::{
     Command, CommandFailure, CommandOutcome, Input, Module, OperatorDecision, Phase, PolicySetting,
@@ -40,6 +40,8 @@ enum Plan<'a> {
     Register {
         id: SceneId,
         module: Module,
+        /// Where the module's policy is kept.
+        slot: Slot,
         report: &'a Report,
     },
     /// `[COOP-OWN-UPDATE.1]`, for the scene at `at` in the table: found once, by `decide`.
@@ -221,7 +223,12 @@ impl State {
     #[inline(always)]
     fn commit(&mut self, plan: Plan<'_>, journal: &mut impl Journal) -> Transition {
         match plan {
-            Plan::Register { id, module, report } => {
+            Plan::Register {
+                id,
+                module,
+                slot,
+                report,
+            } => {
                 journal.record(|| Undo::Registered(id));
                 let scene = Scene {
                     module,
@@ -232,6 +239,7 @@ impl State {
                     age_ms: 0,
                     geometry: report.geometry,
                     detail: report.detail.clone(),
+                    slot,
                 };
                 self.scenes.insert(id, scene);
                 Transition::by(Rule::RegisterNew)
@@ -331,9 +339,9 @@ impl State {
             });
         }
         // [COOP-REG-MODULE.1]
-        if self.policies.get(module).is_none() {
+        let Some(slot) = self.policies.slot(module) else {
             return Err(Rejection::UnsupportedModule { id, module });
-        }
+        };
         // [COOP-REG-FULL.1]
         if self.scenes.len() >= self.limits.max_scenes {
             return Err(Rejection::SceneLimit {
@@ -341,7 +349,12 @@ impl State {
             });
         }
         // [COOP-REG-NEW.1]
-        Ok(Plan::Register { id, module, report })
+        Ok(Plan::Register {
+            id,
+            module,
+            slot,
+            report,
+        })
     }
 
     #[inline(always)]

@@ -427,3 +427,49 @@ fn an_owner_report_is_written_flat() {
         "a nested report is refused"
     );
 }
+
+/// A state read back finds each scene's policy where the state it was written from did: a
+/// serialised scene does not carry where its module's policy is kept, so reading it back works
+/// that out again, for built-in and extension modules alike, and a policy changed afterwards
+/// reaches the scenes of its module only.
+#[test]
+fn a_state_read_back_reads_each_scenes_policy() {
+    let valet = Module::new("valet".parse().expect("an extension behaviour"));
+    let parking = Module::with_sequence(
+        "parking".parse().expect("an extension behaviour"),
+        "approach".parse().expect("an extension sequence"),
+    );
+    let mut config = config();
+    config
+        .policies
+        .extend([(valet, Policy::Required), (parking, Policy::Optional)]);
+    let mut state = State::new(config).expect("valid configuration");
+    for (n, module) in [(1, LANE_CHANGE), (2, AVOIDANCE), (3, valet), (4, parking)] {
+        state
+            .apply(&register(id(n), module, Decision::Activate))
+            .expect("registers");
+    }
+    let merged = |state: &State| state.merged_decisions().collect::<Vec<_>>();
+    let text = serde_json::to_string(&state).expect("serializes");
+    let mut back: State = serde_json::from_str(&text).expect("reads back");
+    assert_eq!(merged(&back), merged(&state));
+    assert_eq!(
+        merged(&back),
+        [
+            (id(1), Decision::Activate),
+            (id(2), Decision::Deactivate),
+            (id(3), Decision::Deactivate),
+            (id(4), Decision::Activate),
+        ]
+    );
+    back.apply(&Input::SetPolicies {
+        policies: vec![PolicySetting {
+            module: valet,
+            policy: Policy::Optional,
+        }],
+    })
+    .expect("valet supports cooperation");
+    assert_eq!(back.merged_decision(id(3)), Some(Decision::Activate));
+    assert_eq!(back.merged_decision(id(2)), Some(Decision::Deactivate));
+    assert_eq!(back.awaits_operator(id(3)), Some(false));
+}

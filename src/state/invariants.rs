@@ -128,8 +128,12 @@ impl State {
             if scene.age_ms > self.limits.ttl_ms {
                 return fail(Invariant::Age, Some(id));
             }
-            // [COOP-INV-MODULE.1]
-            if self.policies.get(scene.module).is_none() {
+            // [COOP-INV-MODULE.1] The scene keeps the place of its module's policy too.
+            if !self
+                .policies
+                .slot(scene.module)
+                .is_some_and(|slot| slot.is(scene.slot))
+            {
                 return fail(Invariant::Module, Some(id));
             }
         }

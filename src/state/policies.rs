@@ -50,6 +50,46 @@ impl Extension {
     }
 }
 
+/// Where a scene's module keeps its policy ([`Policies::slot`]): kept by the scene so that asking
+/// for its merged decision reads the policy at once, without working out the module's place.
+///
+/// It is the module's, and the module is the scene's, so it says nothing the scene does not:
+/// equality, order and hash ignore it (two scenes equal in everything else are equal), a
+/// serialised scene leaves it out, and reading a state back works it out again.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Slot(u16);
+
+impl Slot {
+    /// Whether `self` and `other` are the same place.
+    pub(super) const fn is(self, other: Self) -> bool {
+        self.0 == other.0
+    }
+}
+
+impl PartialEq for Slot {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Eq for Slot {}
+
+impl PartialOrd for Slot {
+    fn partial_cmp(&self, other: &Self) -> Option<core::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Slot {
+    fn cmp(&self, _: &Self) -> core::cmp::Ordering {
+        core::cmp::Ordering::Equal
+    }
+}
+
+impl Hash for Slot {
+    fn hash<H: Hasher>(&self, _: &mut H) {}
+}
+
 // One bit of `configured` for each built-in module.
 const _: () = assert!(Module::COUNT <= u64::BITS as usize);
 
@@ -65,6 +105,31 @@ impl Policies {
                 .ok()
                 .and_then(|at| self.extensions.get(at))
                 .map(|listed| listed.policy),
+        }
+    }
+
+    /// Where `module`'s policy is kept, if it supports cooperation: a place that
+    /// [`at`](Self::at) reads without looking at the module again. Fixed for the state's life,
+    /// as the configured modules are.
+    pub(super) fn slot(&self, module: Module) -> Option<Slot> {
+        let slot = match module.index() {
+            Some(index) => self.builtin.get(index).copied().flatten().map(|_| index),
+            None => self
+                .extensions
+                .binary_search_by_key(&module, |listed| listed.module)
+                .ok()
+                .map(|at| Module::COUNT + at),
+        }?;
+        u16::try_from(slot).ok().map(Slot)
+    }
+
+    /// The policy kept at `slot`, which [`slot`](Self::slot) gave.
+    #[inline]
+    pub(super) fn at(&self, slot: Slot) -> Option<Policy> {
+        let slot = usize::from(slot.0);
+        match slot.checked_sub(Module::COUNT) {
+            None => self.builtin.get(slot).copied().flatten(),
+            Some(at) => self.extensions.get(at).map(|listed| listed.policy),
         }
     }
 
@@ -323,5 +388,36 @@ mod tests {
                 "{other:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_modules_slot_reads_its_policy_and_an_unconfigured_module_has_none() {
+        let valet = extension("valet", "");
+        let parking = extension("parking", "approach");
+        let crosswalk = Module::new(Behavior::Crosswalk);
+        let change = Module::with_sequence(Behavior::Avoidance, Sequence::Change);
+        let mut policies: Policies = [
+            (parking, Policy::Optional),
+            (crosswalk, Policy::Required),
+            (valet, Policy::Required),
+            (change, Policy::Optional),
+        ]
+        .into_iter()
+        .collect();
+        for module in [valet, parking, crosswalk, change] {
+            let slot = policies.slot(module).expect("configured");
+            assert_eq!(policies.at(slot), policies.get(module), "{module}");
+        }
+        for unconfigured in [
+            extension("valet", "approach"),
+            Module::new(Behavior::Avoidance),
+            Module::new(Behavior::Intersection),
+        ] {
+            assert!(policies.slot(unconfigured).is_none(), "{unconfigured}");
+        }
+        // A changed policy is read through the slot taken before the change.
+        let slot = policies.slot(valet).expect("configured");
+        *policies.get_mut(valet).expect("configured") = Policy::Optional;
+        assert_eq!(policies.at(slot), Some(Policy::Optional));
     }
 }

@@ -121,7 +121,7 @@ impl State {
     #[must_use]
     pub fn merged_decision(&self, id: SceneId) -> Option<Decision> {
         let scene = self.scenes.get(id)?;
-        let policy = self.policies.get(scene.module)?;
+        let policy = self.policies.at(scene.slot)?;
         Some(scene.merged_decision(policy))
     }
 
@@ -129,7 +129,7 @@ impl State {
     /// [`merged_decision`](Self::merged_decision) gives for each, with no policy to look up.
     pub fn merged_decisions(&self) -> impl Iterator<Item = (SceneId, Decision)> + '_ {
         self.scenes().filter_map(|(id, scene)| {
-            let policy = self.policies.get(scene.module)?;
+            let policy = self.policies.at(scene.slot)?;
             Some((id, scene.merged_decision(policy)))
         })
     }
@@ -138,7 +138,7 @@ impl State {
     #[must_use]
     pub fn awaits_operator(&self, id: SceneId) -> Option<bool> {
         let scene = self.scenes.get(id)?;
-        let policy = self.policies.get(scene.module)?;
+        let policy = self.policies.at(scene.slot)?;
         Some(scene.awaits_operator(policy))
     }
 

@@ -85,10 +85,19 @@ impl TryFrom<State> for super::State {
             }
         }
         // A repeat in `retired_order` is refused by `[COOP-INV-RETIRED-ORDER.1]` below.
+        let policies: super::Policies = raw.policies.into_iter().collect();
+        let mut scenes = raw.scenes;
+        // Where each scene's policy is kept, which a serialised scene leaves out. A scene whose
+        // module has none keeps the default, and `[COOP-INV-MODULE.1]` refuses it below.
+        for (_, scene) in &mut scenes {
+            if let Some(slot) = policies.slot(scene.module) {
+                scene.slot = slot;
+            }
+        }
         let state = Self {
             limits: raw.limits,
-            policies: raw.policies.into_iter().collect(),
-            scenes: raw.scenes.into_iter().collect(),
+            policies,
+            scenes: scenes.into_iter().collect(),
             retired: std::sync::Arc::new(raw.retired.into_iter().collect()),
             retired_order: std::sync::Arc::new(raw.retired_order.into_iter().collect()),
         };

@@ -1,9 +1,10 @@
 //! A live scene: what the rules read and write.
 
+use super::policies::Slot;
 use crate::{merge, Decision, Detail, Geometry, Module, OperatorDecision, Phase, Policy};
 
 /// A live scene: what the rules read and write.
-#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
+#[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Scene {
@@ -20,6 +21,25 @@ pub struct Scene {
         serde(default, skip_serializing_if = "Detail::is_empty")
     )]
     pub(super) detail: Detail,
+    /// Where the module's policy is kept; invisible to equality, order, hash and serde.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(super) slot: Slot,
+}
+
+impl core::fmt::Debug for Scene {
+    /// Every field but the policy's place, which is the module's.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Scene")
+            .field("module", &self.module)
+            .field("phase", &self.phase)
+            .field("module_decision", &self.module_decision)
+            .field("operator_decision", &self.operator_decision)
+            .field("requested", &self.requested)
+            .field("age_ms", &self.age_ms)
+            .field("geometry", &self.geometry)
+            .field("detail", &self.detail)
+            .finish()
+    }
 }
 
 impl Scene {
