@@ -116,7 +116,7 @@ fn a_canonical_path_replays_unrenamed() {
             seed ^= seed >> 7;
             seed ^= seed << 17;
             let action = (seed % alphabet as u64) as usize;
-            state = model.next_state(&state, action).expect("in the alphabet");
+            state = model.next_step(&state, action).expect("in the alphabet");
             actions.push(action);
             path.push(state.clone());
         }
@@ -162,7 +162,7 @@ fn a_representatives_fingerprint_is_its_class() {
         }
         model.actions(&state, &mut actions);
         for action in actions.drain(..) {
-            let next = model.next_state(&state, action).expect("in the alphabet");
+            let next = model.next_step(&state, action).expect("in the alphabet");
             if !next.stalled && !classes.contains_key(&next) {
                 classes.insert(next.clone(), fingerprint(&next));
                 frontier.push_back(next);

@@ -22,8 +22,10 @@ pub fn page() -> String {
          reach table of `docs/reach.md` measured another count for a pinned \
          configuration. Do not edit by hand.\n\n\
          *Unique* counts the distinct states (after symmetry reduction where it is on); \
-         *generated* counts every successor computed, duplicates included (— where only the \
-         unique count is pinned). The bounds are modules (or RTC interfaces) × scene \
+         *generated* counts every successor handed to the checker, duplicates included (— \
+         where only the unique count is pinned); the sequential model hands over one stalled \
+         step of each rule a state's inputs stall on, not one per input (`docs/models.md`, \
+         *Reductions*). The bounds are modules (or RTC interfaces) × scene \
          identifiers.\n\n\
          | Model | Bounds | Search | Unique states | Generated | Test |\n\
          |---|---|---|---|---|---|\n",

@@ -1,8 +1,8 @@
 //! The search behind [`explore`]: breadth first, level by level, on any number of threads.
 //!
 //! **Menus and arrivals.** Expanding a state applies every input of the model's `actions` with
-//! its `next_state`, and records the state's *menu*: each rule an input fires there, with the
-//! identifiers the input names. A pair ending in a state is a rule that led to it (its
+//! [`SequentialModel::next_step`] (every successor, stalled or not), and records the state's
+//! *menu*: each rule an input fires there, with the identifiers the input names. A pair ending in a state is a rule that led to it (its
 //! [`Step::last`]) followed by a menu entry, its scope read by comparing the entry's
 //! identifiers with those of the input that led there. So each state also keeps its
 //! *arrivals*, the identifier sets of the inputs that reached it, as bits of a `u64`. An
@@ -244,7 +244,7 @@ impl Search<'_> {
         for action in actions {
             let ids = self.named.get(action).copied().unwrap_or(0);
             let symmetric = self.symmetric.get(action).copied().unwrap_or(true);
-            let Some(after) = self.model.next_state(step, action) else {
+            let Some(after) = self.model.next_step(step, action) else {
                 continue;
             };
             tally.transitions += 1;
@@ -275,7 +275,7 @@ impl Search<'_> {
                     continue;
                 }
                 let ids = self.named.get(action).copied().unwrap_or(0);
-                let Some(after) = self.model.next_state(&member, action) else {
+                let Some(after) = self.model.next_step(&member, action) else {
                     continue;
                 };
                 tally.renamed += 1;

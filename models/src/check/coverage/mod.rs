@@ -5,9 +5,10 @@
 //! batch).
 //!
 //! The pairs are measured, not stated: [`explore`] moves the model only with its own
-//! `actions` and `next_state`, and reads the rule each step fired from [`Step::last`]. How it
-//! covers every pair while keeping one state per class of states equal up to renaming, and
-//! what the numbers show, is in `docs/verification.md` (*Small scopes*).
+//! `actions` and `next_step` (every successor, stalled or not), and reads the rule each step
+//! fired from [`Step::last`]. How it covers every pair while keeping one state per class of
+//! states equal up to renaming, and what the numbers show, is in `docs/verification.md`
+//! (*Small scopes*).
 //!
 //! [`Step::last`]: crate::Step::last
 

@@ -331,6 +331,20 @@ impl SequentialModel {
 /// An action of the model: the position of an input in [`SequentialModel::alphabet`].
 pub type Action = usize;
 
+impl SequentialModel {
+    /// The step input `action` leads to from `from` (in canonical form when the model says so),
+    /// stalled or not; `None` only for a position outside the alphabet. What the coverage
+    /// search and the tests walk with: the checker's
+    /// [`next_state`](stateright::Model::next_state) leaves out the stalled steps it has been
+    /// handed already.
+    #[must_use]
+    pub fn next_step(&self, from: &Step, action: Action) -> Option<Step> {
+        self.alphabet
+            .get(action)
+            .map(|input| self.successor(from, input))
+    }
+}
+
 impl Model for SequentialModel {
     type State = Step;
     type Action = Action;
@@ -354,10 +368,17 @@ impl Model for SequentialModel {
         !self.halt.is_set()
     }
 
+    /// The step [`next_step`](SequentialModel::next_step) gives, except a merged stalled step
+    /// after the first of its rule among `from`'s inputs: that is a state the checker was
+    /// handed already, so it is not handed again ([`Step`], *stalled steps*).
     fn next_state(&self, from: &Step, action: Action) -> Option<Step> {
-        self.alphabet
-            .get(action)
-            .map(|input| self.successor(from, input))
+        let next = self.next_step(from, action)?;
+        match next.last {
+            Some(rule) if next.stalled && next.merge_stalled && !from.first_stall(rule, action) => {
+                None
+            }
+            _ => Some(next),
+        }
     }
 
     fn format_action(&self, action: &Action) -> String {

@@ -2,6 +2,7 @@
 //! fingerprint and its canonical form under renaming of identifiers.
 
 use std::hash::{Hash, Hasher};
+use std::sync::atomic::{AtomicU16, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use cooperation::{Module, Retirement, Rule, Scene, SceneId, State};
@@ -61,6 +62,9 @@ struct Derived {
     canonical: OnceLock<Option<Step>>,
     /// The core as the spec's rules read it, built once for all the step's successors.
     snapshot: OnceLock<Snapshot>,
+    /// For each rule, the first input (its place in the alphabet) found so far whose stalled
+    /// step the rule names; `u16::MAX` while none is (see [`Step::first_stall`]).
+    first_stall: [AtomicU16; Rule::ALL.len()],
 }
 
 impl Step {
@@ -76,6 +80,7 @@ impl Step {
             symmetric_hash: OnceLock::new(),
             canonical: OnceLock::new(),
             snapshot: OnceLock::new(),
+            first_stall: core::array::from_fn(|_| AtomicU16::new(u16::MAX)),
         });
         Self {
             core,
@@ -138,6 +143,27 @@ impl Step {
     /// and whether stalled steps are merged.
     pub(super) const fn settings(&self) -> (bool, bool) {
         (self.order_matters, self.merge_stalled)
+    }
+
+    /// Whether a stalled step of `rule`, given by input `action` (its place in the alphabet),
+    /// is the first of its rule among this step's successors, the inputs taken in alphabet
+    /// order. When stalled steps are merged, every stalled step of one rule is one state
+    /// (fingerprinted by the rule alone), so the later ones are that state again: the model
+    /// does not hand them to the checker.
+    ///
+    /// Kept as the least input found so far for each rule, so `false` always means an earlier
+    /// input of this very step gave a stalled step of the same rule; a checker that takes the
+    /// inputs in order (both of stateright's searches, each state expanded by one thread) sees
+    /// exactly the first one of each rule, and one that does not (a path rebuilt from its
+    /// inputs) at worst gets a duplicate more.
+    pub(super) fn first_stall(&self, rule: Rule, action: usize) -> bool {
+        let (Some(slot), Ok(action)) = (
+            self.derived.first_stall.get(rule as usize),
+            u16::try_from(action),
+        ) else {
+            return true;
+        };
+        slot.fetch_min(action, Ordering::Relaxed) >= action
     }
 
     /// The step for an input that changed nothing: same core and history, shared derivations.
