@@ -41,7 +41,11 @@ impl SequentialModel {
 
     /// The successor of `from` by `input`, in canonical form when the model says so.
     pub(super) fn successor(&self, from: &Step, input: &Input) -> Step {
-        let next = self.step(from, input);
+        self.in_form(self.step(from, input))
+    }
+
+    /// `next` in canonical form when the model says so.
+    pub(super) fn in_form(&self, next: Step) -> Step {
         if self.canonical_states() {
             next.canonical_step()
         } else {

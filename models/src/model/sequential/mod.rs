@@ -13,8 +13,8 @@ use std::borrow::Cow;
 use std::sync::Arc;
 
 use cooperation::{
-    Behavior, Config, Decision, Input, Limits, Module, Policy, Rejection, SceneId, Sequence, State,
-    TableLayout, Transition,
+    Behavior, Config, Decision, Input, Limits, Module, Policy, Rejection, Rule, SceneId, Sequence,
+    State, TableLayout, Transition,
 };
 use stateright::{Model, Property};
 
@@ -294,6 +294,15 @@ impl SequentialModel {
     /// spec's rules say.
     #[must_use]
     pub fn step(&self, from: &Step, input: &Input) -> Step {
+        match self.outcome(from, input) {
+            Outcome::Stalled(rule) => Step::stalled_after(from, rule),
+            Outcome::Moved(next) => next,
+        }
+    }
+
+    /// What [`step`](Self::step) gives, a stalled step told by its rule alone, so that a
+    /// caller that drops it has built nothing.
+    fn outcome(&self, from: &Step, input: &Input) -> Outcome {
         let (core, result) = self.transition(&from.core, input);
         let rule = match &result {
             Ok(transition) => transition.rule,
@@ -311,21 +320,27 @@ impl SequentialModel {
             let mut ghost = from.ghost;
             ghost.broken = ghost.broken.and(departures);
             if ghost == from.ghost {
-                return Step::stalled_after(from, rule);
+                return Outcome::Stalled(rule);
             }
             let core = Arc::clone(&from.core);
-            return Step::new(core, Some(rule), ghost, false, from.settings());
+            return Outcome::Moved(Step::new(core, Some(rule), ghost, false, from.settings()));
         }
         let mut ghost = observe(from, input, &result, &core);
         ghost.broken = ghost.broken.and(departures);
-        Step::new(
+        Outcome::Moved(Step::new(
             Arc::new(core.into_owned()),
             Some(rule),
             ghost,
             false,
             from.settings(),
-        )
+        ))
     }
+}
+
+/// What an input did to a step: nothing but fire `rule` (a stalled step), or the step it led to.
+enum Outcome {
+    Stalled(Rule),
+    Moved(Step),
 }
 
 /// An action of the model: the position of an input in [`SequentialModel::alphabet`].
@@ -372,13 +387,14 @@ impl Model for SequentialModel {
     /// after the first of its rule among `from`'s inputs: that is a state the checker was
     /// handed already, so it is not handed again ([`Step`], *stalled steps*).
     fn next_state(&self, from: &Step, action: Action) -> Option<Step> {
-        let next = self.next_step(from, action)?;
-        match next.last {
-            Some(rule) if next.stalled && next.merge_stalled && !from.first_stall(rule, action) => {
-                None
+        let next = match self.outcome(from, self.alphabet.get(action)?) {
+            Outcome::Stalled(rule) if from.merge_stalled && !from.first_stall(rule, action) => {
+                return None;
             }
-            _ => Some(next),
-        }
+            Outcome::Stalled(rule) => Step::stalled_after(from, rule),
+            Outcome::Moved(next) => next,
+        };
+        Some(self.in_form(next))
     }
 
     fn format_action(&self, action: &Action) -> String {
