@@ -97,15 +97,7 @@ impl Policies {
     /// The policy of `module`, if it supports cooperation.
     #[inline]
     pub(super) fn get(&self, module: Module) -> Option<Policy> {
-        match module.index() {
-            Some(index) => self.builtin.get(index).copied().flatten(),
-            None => self
-                .extensions
-                .binary_search_by_key(&module, |listed| listed.module)
-                .ok()
-                .and_then(|at| self.extensions.get(at))
-                .map(|listed| listed.policy),
-        }
+        self.slot(module).and_then(|slot| self.at(slot))
     }
 
     /// Where `module`'s policy is kept, if it supports cooperation: a place that
@@ -135,18 +127,13 @@ impl Policies {
 
     /// The policy of `module`, to change, if it supports cooperation.
     pub(super) fn get_mut(&mut self, module: Module) -> Option<&mut Policy> {
-        match module.index() {
-            Some(index) => self.builtin.get_mut(index).and_then(Option::as_mut),
-            None => {
-                // Found in the shared list first: only a policy that is there is unshared.
-                let at = self
-                    .extensions
-                    .binary_search_by_key(&module, |listed| listed.module)
-                    .ok()?;
-                Arc::make_mut(&mut self.extensions)
-                    .get_mut(at)
-                    .map(|listed| &mut listed.policy)
-            }
+        // Found first: only a policy that is in the shared list unshares it.
+        let slot = usize::from(self.slot(module)?.0);
+        match slot.checked_sub(Module::COUNT) {
+            None => self.builtin.get_mut(slot).and_then(Option::as_mut),
+            Some(at) => Arc::make_mut(&mut self.extensions)
+                .get_mut(at)
+                .map(|listed| &mut listed.policy),
         }
     }
 
