@@ -2,12 +2,12 @@
 //!
 //! **Menus and arrivals.** Expanding a state applies every input of the model's `actions` with
 //! [`SequentialModel::next_step`] (every successor, stalled or not), and records the state's
-//! *menu*: each rule an input fires there, with the identifiers the input names. A pair ending in a state is a rule that led to it (its
-//! [`Step::last`]) followed by a menu entry, its scope read by comparing the entry's
-//! identifiers with those of the input that led there. So each state also keeps its
-//! *arrivals*, the identifier sets of the inputs that reached it, as bits of a `u64`. An
-//! arrival met before the state is expanded is paired when it is; one met after, at once, with
-//! the stored menu.
+//! *menu*: each rule an input fires there, with the identifiers the input names. A pair ending
+//! in a state is a rule that led to it (its [`Step::last`]) followed by a menu entry, its scope
+//! read by comparing the entry's identifiers with those of the input that led there. So each
+//! state also keeps its *arrivals*, the identifier sets of the inputs that reached it, as bits
+//! of a `u64`. An arrival met before the state is expanded is paired when it is; one met after,
+//! at once, with the stored menu.
 //!
 //! **Stalled steps.** A stalled step (an input that changed neither the core nor the history)
 //! is never expanded: the model offers no action in it. Its successors would be its
