@@ -1,4 +1,4 @@
-// Per-call cost of the C++ class's methods (docs/performance.md, "The C++ RTC interface"), at
+// Per-call cost of the C++ class's methods (docs/performance-cpp.md), at
 // 1, 3, 10, 100 and 1,000 live scenes in one interface, and of a planning cycle in upstream's
 // velocity planner's call order (`planningCycle`), beside two baselines measured in the same
 // run: the same calls made in Rust on the Rust side of the bridge (no C++ boundary), and an

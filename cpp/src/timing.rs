@@ -1,6 +1,6 @@
-//! The benchmark's Rust baseline (`cpp/bench/calls.cpp`, `docs/performance.md`): the calls the
-//! C++ class makes, timed here on the Rust side of the bridge, so that one run compares the same
-//! work with and without the C++ boundary.
+//! The benchmark's Rust baseline (`cpp/bench/calls.cpp`, `docs/performance-cpp.md`): the
+//! calls the C++ class makes, timed here on the Rust side of the bridge, so that one run
+//! compares the same work with and without the C++ boundary.
 
 use std::hint::black_box;
 use std::time::Instant;
