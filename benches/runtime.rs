@@ -6,7 +6,7 @@
 //! - `cycle/N`: one planning cycle with N live scenes over 8 modules; here also
 //!   `baseline-per-module` ([`workload::baseline::PerModuleRegistry`]);
 //! - `phase/{update,query,outputs}/N`: the three parts of that cycle timed one by one, at
-//!   N = 1 000 and 10 000;
+//!   N = 1, 10, 1 000 and 10 000;
 //! - `commands/K`: one `set_commands` batch of K commands, 10 000 live scenes;
 //! - `policy/N`: one policy change of a module with N live scenes;
 //! - `churn/N`: one registration plus one removal, N live scenes.
@@ -132,7 +132,7 @@ fn cycle(c: &mut Criterion) {
 }
 
 /// The numbers of live scenes the cycle is timed part by part at.
-const PHASE_SCENES: [usize; 2] = [1_000, 10_000];
+const PHASE_SCENES: [usize; 4] = [1, 10, 1_000, 10_000];
 
 /// Times each part of a planning cycle on its own, on a planner with `scenes` scenes: the
 /// owners' updates, the merged-decision queries, and the status and factor lists.

@@ -24,7 +24,7 @@ END = "<!-- END GENERATED: runtime tables -->"
 
 SCENES = [1, 10, 100, 1_000, 10_000]
 BATCHES = [1, 100, 10_000]
-PHASE_SCENES = [1_000, 10_000]
+PHASE_SCENES = [1, 10, 1_000, 10_000]
 PHASES = [
     ("update", "owners' updates"),
     ("query", "merged-decision queries"),
