@@ -210,6 +210,18 @@ def targets_section(cycles, allocations):
             f"- At N = 1 000 at least 10× faster than the linear baseline: {verdict} "
             f"({speedup:.2g}×{extra})."
         )
+    small = {
+        n: base[0] / lib[0]
+        for n, (lib, base, _) in cycles.items()
+        if n in (1, 10) and lib is not None and base is not None
+    }
+    if small:
+        worst = min(small.values())
+        verdict = "met" if worst >= 1 else "**missed**"
+        ratios = ", ".join(f"{ratio:.3g}× at N = {n}" for n, ratio in sorted(small.items()))
+        lines.append(
+            f"- At N = 1 and 10 no slower than the linear baseline: {verdict} ({ratios})."
+        )
     if allocations is not None:
         worst = max(r["library"] for r in allocations)
         verdict = "met" if worst == 0 else "**missed**"
