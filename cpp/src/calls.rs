@@ -298,25 +298,28 @@ fn view<R>(core: &Core, handle: &Handle, query: impl FnOnce(&rtc::View<'_>) -> R
 }
 
 /// A query about the scene `uuid`: answered from the handle's snapshot by `copied` when the
-/// snapshot is current and `copied` can answer, else by `asked` through the core, under its
-/// lock, where the snapshot is made again if the core changed (`None`: the interface cannot be
-/// queried, as [`view`]).
+/// snapshot is current and `copied` can answer; else, under the core's lock, the snapshot is
+/// made again if the core changed and answers if it can, and `asked` answers through the core
+/// if not (`None`: the interface cannot be queried, as [`view`]).
 fn ask<R>(
     core: &Core,
     handle: &Handle,
     uuid: &Uuid,
-    copied: impl FnOnce(Option<Answers>) -> Option<R>,
+    copied: impl Fn(Option<Answers>) -> Option<R>,
     asked: impl FnOnce(&rtc::View<'_>) -> R,
 ) -> Option<R> {
-    if let Lookup::Current(answers) = handle.snapshot.lookup(core.shared.changes(), &uuid.bytes) {
-        if let Some(answer) = copied(answers) {
-            return Some(answer);
-        }
+    let from_copy = |changes| match handle.snapshot.lookup(changes, &uuid.bytes) {
+        Lookup::Current(answers) => copied(answers),
+        Lookup::Ask => None,
+    };
+    if let Some(answer) = from_copy(core.shared.changes()) {
+        return Some(answer);
     }
     core.query(|changes, host| {
         let view = handle.view(host).ok();
         handle.snapshot.make(changes, view.as_ref());
-        view.map(|view| asked(&view))
+        // The copy just made is current while the lock is held.
+        from_copy(changes).or_else(|| view.map(|view| asked(&view)))
     })
 }
 
@@ -325,14 +328,14 @@ fn ask_live(
     core: &Core,
     handle: &Handle,
     uuid: &Uuid,
-    copied: impl FnOnce(Answers) -> bool,
+    copied: impl Fn(Answers) -> bool,
     asked: impl FnOnce(&rtc::View<'_>, SceneId) -> bool,
 ) -> bool {
     ask(
         core,
         handle,
         uuid,
-        |answers| Some(answers.is_some_and(copied)),
+        |answers| Some(answers.is_some_and(&copied)),
         |view| asked(view, id(uuid)),
     )
     .unwrap_or(false)

@@ -3,10 +3,12 @@
 //! A planning module asks the same few questions about each of its handful of scenes every
 //! cycle (`isActivated`, `isRTCEnabled`, ...), and the core changes between cycles, not between
 //! the questions. So each [`Handle`](crate::calls::Handle) keeps the answers for its interface's
-//! live scenes, made by the adapter's own queries under the core's lock, with the core's change
-//! count they were made at ([`Shared::changes`](cooperation_adapters::Shared::changes)). A query
-//! that finds the count where it was answers from the copy, with no lock taken; any change of
-//! the core, from any thread, moves the count, and the next query makes the copy again.
+//! live scenes, made under the core's lock by the adapter
+//! ([`View::answers`](cooperation_adapters::rtc::View::answers): the queries' answers for every
+//! scene, in one pass), with the core's change count they were made at
+//! ([`Shared::changes`](cooperation_adapters::Shared::changes)). A query that finds the count
+//! where it was answers from the copy, with no lock taken; any change of the core, from any
+//! thread, moves the count, and the next query makes the copy again.
 //!
 //! The copy is a sequence lock over atomics: one writer at a time (it is written only under the
 //! core's lock), readers that never wait and retry nothing (a reader that meets a write in
@@ -15,7 +17,6 @@
 
 use std::sync::atomic::{fence, AtomicU64, Ordering};
 
-use cooperation::SceneId;
 use cooperation_adapters::rtc::{self, View};
 
 /// The most live scenes of one interface the copy holds: more than a module has at once in
@@ -150,13 +151,13 @@ impl Snapshot {
             }
         }
         if let Some(view) = view.filter(|_| scenes == 0) {
-            for (id, _) in view.scenes() {
+            for (id, answers) in view.answers() {
                 let Some(entry) = made.get_mut(scenes) else {
                     scenes = CAPACITY + 1;
                     break;
                 };
                 let (high, low) = halves(&rtc::Uuid::from(id).uuid);
-                *entry = [high, low, answers(view, id).0];
+                *entry = [high, low, Answers::from(answers).0];
                 scenes += 1;
             }
         }
@@ -181,13 +182,15 @@ impl Snapshot {
     }
 }
 
-/// The answers the adapter's queries give for the live scene `id` of `view`'s interface.
-fn answers(view: &View<'_>, id: SceneId) -> Answers {
-    let bit = |set: bool, bit: u64| if set { bit } else { 0 };
-    Answers(
-        bit(view.is_activated(id), ACTIVATED)
-            | bit(view.is_force_activated(id), FORCE_ACTIVATED)
-            | bit(view.is_force_deactivated(id), FORCE_DEACTIVATED)
-            | bit(view.is_rtc_enabled(id) == Some(true), RTC_ENABLED),
-    )
+impl From<rtc::Answers> for Answers {
+    /// The adapter's answers for one live scene, as bits.
+    fn from(answers: rtc::Answers) -> Self {
+        let bit = |set: bool, bit: u64| if set { bit } else { 0 };
+        Self(
+            bit(answers.activated, ACTIVATED)
+                | bit(answers.force_activated, FORCE_ACTIVATED)
+                | bit(answers.force_deactivated, FORCE_DEACTIVATED)
+                | bit(answers.rtc_enabled, RTC_ENABLED),
+        )
+    }
 }

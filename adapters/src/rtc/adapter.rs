@@ -453,9 +453,15 @@ fn set_auto_mode(
 /// chose autonomous or has not decided under an optional policy. `requested` is a separate field,
 /// as upstream.
 fn auto_mode(scene: &Scene, state: &cooperation::State) -> bool {
+    auto_mode_under(scene, || state.policy(scene.module()))
+}
+
+/// [`auto_mode`], with `policy` giving the policy of the scene's module (asked only for a scene
+/// no operator has decided), for a caller that has looked it up already.
+fn auto_mode_under(scene: &Scene, policy: impl FnOnce() -> Option<Policy>) -> bool {
     match scene.operator_decision() {
         OperatorDecision::Autonomous => true,
-        OperatorDecision::Undecided => state.policy(scene.module()) == Some(Policy::Optional),
+        OperatorDecision::Undecided => policy() == Some(Policy::Optional),
         OperatorDecision::Activate | OperatorDecision::Deactivate => false,
     }
 }
@@ -504,5 +510,5 @@ fn auto_mode_status(binding: &Binding, state: &cooperation::State) -> AutoModeSt
 mod interface;
 mod routes;
 
-pub use interface::{Interface, View};
+pub use interface::{Answers, Interface, View};
 use routes::Routes;

@@ -91,7 +91,9 @@ mod module_type;
 mod msg;
 mod report;
 
-pub use adapter::{policy_for_auto_mode, Interface, InterfaceId, Reply, Rtc, View, SCENE_QUOTA};
+pub use adapter::{
+    policy_for_auto_mode, Answers, Interface, InterfaceId, Reply, Rtc, View, SCENE_QUOTA,
+};
 pub use binding::{Binding, Kind};
 pub use error::{FieldError, RtcError};
 pub use module_type::ModuleType;

@@ -12,9 +12,23 @@ use cooperation::{
 };
 
 use super::{
-    apply_commands, auto_mode, auto_mode_status, cooperate_status, prune, set_auto_mode, Reply,
-    Routes,
+    apply_commands, auto_mode, auto_mode_status, auto_mode_under, cooperate_status, prune,
+    set_auto_mode, Reply, Routes,
 };
+
+/// What upstream's per-scene queries answer of one live scene of an interface
+/// ([`View::answers`]).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Answers {
+    /// [`View::is_activated`].
+    pub activated: bool,
+    /// [`View::is_force_activated`].
+    pub force_activated: bool,
+    /// [`View::is_force_deactivated`].
+    pub force_deactivated: bool,
+    /// [`View::is_rtc_enabled`] (a live scene's, so never `None`).
+    pub rtc_enabled: bool,
+}
 
 /// One RTC interface, for queries. Made by [`Rtc::view`](super::Rtc::view).
 #[derive(Clone, Copy, Debug)]
@@ -99,6 +113,26 @@ impl<'a> View<'a> {
     pub fn is_rtc_enabled(&self, id: SceneId) -> Option<bool> {
         // [COOP-DEV-UNKNOWN-QUERY.1]
         self.scene(id).map(|scene| !auto_mode(scene, self.state))
+    }
+
+    /// The four queries above of each of this interface's live scenes, in identifier order,
+    /// answered together: each scene's route and its module's policy read once, where asking
+    /// the four queries of a scene finds it five times in the core and four among the routes,
+    /// and reads the policy twice. For a caller that keeps the answers of all its scenes (the
+    /// C++ class's copy of them); every answer is the one the query gives.
+    pub fn answers(&self) -> impl Iterator<Item = (SceneId, Answers)> + 'a {
+        let state = self.state;
+        self.scenes().map(move |(id, scene)| {
+            let policy = state.policy(scene.module());
+            let answers = Answers {
+                activated: policy.map(|policy| scene.merged_decision(policy))
+                    == Some(Decision::Activate),
+                force_activated: scene.is_force_activated(),
+                force_deactivated: scene.is_force_deactivated(),
+                rtc_enabled: !auto_mode_under(scene, || policy),
+            };
+            (id, answers)
+        })
     }
 
     /// Upstream `isTerminated`: `Some(true)` once the scene succeeded or failed (the core

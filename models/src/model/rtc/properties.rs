@@ -165,6 +165,26 @@ fn force_flags_agree(model: &RtcModel, step: &RtcStep) -> bool {
     })
 }
 
+/// Each interface's answers in one pass list its own live scenes, in identifier order, each
+/// answered as the core says (as the per-scene queries are checked above).
+fn answers_are_the_queries(model: &RtcModel, step: &RtcStep) -> bool {
+    (0..model.bindings().len()).all(|at| {
+        model.view(step, at).is_some_and(|view| {
+            let expected = model.ids().iter().filter_map(|&id| {
+                let scene = own(step, at, id)?;
+                let answers = rtc::Answers {
+                    activated: step.core.merged_decision(id) == Some(Decision::Activate),
+                    force_activated: step.core.force_activated(id) == Some(true),
+                    force_deactivated: step.core.force_deactivated(id) == Some(true),
+                    rtc_enabled: !auto_mode(&step.core, scene),
+                };
+                Some((id, answers))
+            });
+            view.answers().eq(expected)
+        })
+    })
+}
+
 fn queries_say_so(model: &RtcModel, step: &RtcStep) -> bool {
     every_query(model, step, |view, at, id| {
         let scene = own(step, at, id);
@@ -457,7 +477,7 @@ fn steps() -> Vec<(&'static str, Condition)> {
 
 /// The state properties, by name. Each reads the core and the adapter only, so a stalled step
 /// (the same states as its predecessor, already checked) needs no check again.
-const STATES: [(&str, Condition); 15] = [
+const STATES: [(&str, Condition); 16] = [
         ("COOP-DEV-ID-REUSE.1: each remembered identifier is routed to the interface that registered it", routed_to_registrar),
         ("COOP-DEV-SEQUENCE.1: every scene an interface registered belongs to a module it is bound to", scenes_in_bound_modules),
         ("COOP-DEV-ID-REUSE.1: the adapter's route count covers every routed identifier and no more than the core can remember plus one", routes_bounded),
@@ -465,6 +485,7 @@ const STATES: [(&str, Condition); 15] = [
         ("COOP-DEV-ORDER.1, COOP-DEV-ROUTING.1: the external status array lists every interface's live scenes, nearest start first", external_statuses),
         ("COOP-MERGE.1: is_activated is the core's merged decision, and false for another interface's scene", activated_is_merged),
         ("COOP-DEV-FORCE.1: the force flags are the core's and agree with is_activated", force_flags_agree),
+        ("COOP-MERGE.1, COOP-DEV-FORCE.1: an interface's answers in one pass are its live scenes' queries, in identifier order", answers_are_the_queries),
         ("COOP-DEV-UNKNOWN-QUERY.1, COOP-DEV-TERMINAL.1 (upstream test steps 1, 3, 6, 10): is_registered, is_rtc_enabled and is_terminated answer for the interface's own scenes only", queries_say_so),
         ("COOP-DEV-AUTO-MODE-KEY.1: every interface's auto-mode status is its module's policy", auto_mode_is_policy),
         ("COOP-DEV-AUTO-MODE-KEY.1 (docs/rtc.md): with upstream's enable_rtc = false, as the model is configured, every interface starts in auto mode", starts_in_auto_mode),
@@ -498,7 +519,7 @@ pub fn properties() -> Vec<Property<RtcModel>> {
 pub fn properties_for(several_sequences: bool, quota: bool) -> Vec<Property<RtcModel>> {
     let answers = per_index!(answered: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30);
     let in_sequence = per_index!(answered_in_sequence: 0 1 2 3);
-    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14);
+    let states = per_index!(state: 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15);
     let mut properties: Vec<Property<RtcModel>> = steps()
         .into_iter()
         .map(|(name, condition)| Property::always(name, condition))
