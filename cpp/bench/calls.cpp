@@ -3,7 +3,9 @@
 // velocity planner's call order (`planningCycle`), beside two baselines measured in the same
 // run: the same calls made in Rust on the Rust side of the bridge (no C++ boundary), and an
 // upstream-style registry (`LinearRegistry`: what upstream's `RTCInterface` does for each call,
-// on the same node), written here only to be measured. Built by `tools/cpp`; run it by hand:
+// on the same node), written here only to be measured. Then the cycle of a node with the
+// velocity planner's nine interfaces, 1, 3 and 10 scenes each, against nine registries.
+// Built by `tools/cpp`; run it by hand:
 //   target/cpp/build/bench_calls
 #include "autoware/rtc_interface/rtc_interface.hpp"
 #include "cooperation-cpp/src/bridge.rs.h"
@@ -13,6 +15,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -308,6 +311,83 @@ std::map<std::string, double> time_linear(std::size_t scenes, std::size_t rounds
   });
   return ns;
 }
+/// The velocity planner's nine interfaces, each a module of its own.
+const std::vector<std::string> kVelocityInterfaces = {
+  "intersection", "intersection_occlusion", "crosswalk", "blind_spot", "traffic_light",
+  "virtual_traffic_light", "detection_area", "no_stopping_area", "roundabout"};
+
+/// The identifier of scene `index` of interface `interface`: distinct across interfaces.
+UUID node_scene(std::size_t interface, std::size_t index) { return scene(interface * 10000 + index); }
+
+/// One planning cycle of every interface of a node (each interface's `planningCycle` in turn),
+/// nanoseconds per cycle of one interface: `Cycle(interface)` runs one interface's.
+template <typename Cycle>
+double time_node_cycles(std::size_t scenes, std::size_t rounds, std::size_t interfaces, Cycle cycle)
+{
+  return time_ns((rounds + scenes - 1) / scenes, [&](std::size_t) {
+           for (std::size_t k = 0; k < interfaces; ++k) {
+             cycle(k);
+           }
+         }) /
+         static_cast<double>(interfaces);
+}
+
+/// The class's cycle of a node with the velocity planner's nine interfaces, per interface.
+double time_class_node(std::size_t scenes, std::size_t rounds)
+{
+  cooperation::rtc::Node node("bench");
+  const auto core = cooperation::rtc::core_of(&node, 0);
+  std::vector<std::unique_ptr<RTCInterface>> rtcs;
+  for (const auto & name : kVelocityInterfaces) {
+    rtcs.push_back(std::make_unique<RTCInterface>(&node, name, false));
+  }
+  for (std::size_t k = 0; k < rtcs.size(); ++k) {
+    for (std::size_t i = 0; i < scenes; ++i) {
+      rtcs[k]->updateCooperateStatus(
+        node_scene(k, i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
+    }
+  }
+  return time_node_cycles(scenes, rounds, rtcs.size(), [&](std::size_t k) {
+    auto & rtc = *rtcs[k];
+    for (std::size_t i = 0; i < scenes; ++i) {
+      sink = rtc.isActivated(node_scene(k, i));
+      sink = rtc.isRTCEnabled(node_scene(k, i));
+    }
+    for (std::size_t i = 0; i < scenes; ++i) {
+      rtc.updateCooperateStatus(
+        node_scene(k, i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
+    }
+    rtc.removeExpiredCooperateStatus();
+    rtc.publishCooperateStatus(node.now());
+  });
+}
+
+/// Nine upstream-style registries on one node, the same cycle, per interface.
+double time_linear_node(std::size_t scenes, std::size_t rounds)
+{
+  cooperation::rtc::Node node("bench");
+  std::vector<std::unique_ptr<LinearRegistry>> registries;
+  for (const auto & name : kVelocityInterfaces) {
+    registries.push_back(std::make_unique<LinearRegistry>(node, name));
+  }
+  for (std::size_t k = 0; k < registries.size(); ++k) {
+    for (std::size_t i = 0; i < scenes; ++i) {
+      registries[k]->update(node_scene(k, i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
+    }
+  }
+  return time_node_cycles(scenes, rounds, registries.size(), [&](std::size_t k) {
+    auto & registry = *registries[k];
+    for (std::size_t i = 0; i < scenes; ++i) {
+      sink = registry.is_activated(node_scene(k, i));
+      sink = registry.is_rtc_enabled(node_scene(k, i));
+    }
+    for (std::size_t i = 0; i < scenes; ++i) {
+      registry.update(node_scene(k, i), true, State::WAITING_FOR_EXECUTION, 10, 10, node.now());
+    }
+    registry.remove_expired();
+    registry.publish(node.now());
+  });
+}
 }  // namespace
 
 int main(int argc, char ** argv)
@@ -327,6 +407,15 @@ int main(int argc, char ** argv)
       std::printf("| %s | %zu | %.0f | %.0f | %.0f | %.2f | %.2f |\n", method.c_str(), scenes, ns,
                   rust[method], linear.at(method), ns / rust[method], ns / linear.at(method));
     }
+  }
+  std::printf(
+    "\n| cycle of a node of nine interfaces | scenes each | C++ class (ns an interface) | "
+    "upstream-style registries (ns an interface) | class / upstream-style |\n"
+    "|---|---:|---:|---:|---:|\n");
+  for (const std::size_t scenes : {1, 3, 10}) {
+    const double cpp = time_class_node(scenes, rounds);
+    const double linear = time_linear_node(scenes, rounds);
+    std::printf("| planningCycle | %zu | %.0f | %.0f | %.2f |\n", scenes, cpp, linear, cpp / linear);
   }
   return 0;
 }
