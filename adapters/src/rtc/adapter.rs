@@ -60,9 +60,9 @@ pub struct Rtc {
     /// that the core has a policy for each, and reads them here rather than building them.
     /// Shared by copies, as the bindings are.
     modules: Arc<[Box<[Module]>]>,
-    /// The interface (index into `bindings`) each scene registered through. Entries for
-    /// identifiers the core no longer remembers are pruned when they could outnumber the live
-    /// and retired identifiers.
+    /// The interface (index into `bindings`) each scene registered through, and each
+    /// interface's scenes. Entries for identifiers the core no longer remembers are pruned when
+    /// they could outnumber the live and retired identifiers.
     routes: Routes,
     /// At most this many live scenes per interface, if set ([`Rtc::with_scene_quota`]).
     quota: Option<usize>,
@@ -118,9 +118,9 @@ impl Rtc {
             .map(|binding| binding.modules().collect())
             .collect();
         Self {
+            routes: Routes::new(bindings.len()),
             bindings: bindings.into(),
             modules,
-            routes: Routes::default(),
             quota: None,
         }
     }
@@ -209,6 +209,7 @@ impl Rtc {
         } = self;
         let bindings: &'a [Binding] = bindings;
         let binding = configured(bindings, modules, state, id)?;
+        routes.settle(state);
         Ok(Interface {
             bindings,
             binding,
@@ -280,7 +281,8 @@ impl Rtc {
         elapsed_ms: u64,
     ) -> Result<Transition, RtcError> {
         let transition = state.apply(&Input::Tick { elapsed_ms })?;
-        prune(&mut self.routes, state);
+        self.routes.retired([&transition]);
+        self.routes.prune(state);
         Ok(transition)
     }
 
@@ -395,18 +397,6 @@ fn configured<'b>(
         });
     }
     Ok(binding)
-}
-
-/// Forgets the routes of identifiers the core no longer remembers, once they could outnumber
-/// the live and retired identifiers; so the routes never hold more than the core can remember
-/// plus one.
-fn prune(routes: &mut Routes, state: &cooperation::State) {
-    let remembered = state
-        .scene_count()
-        .saturating_add(state.limits().retired_capacity);
-    if routes.len() > remembered {
-        routes.retain(|id, _| state.scene(*id).is_some() || state.retirement(*id).is_some());
-    }
 }
 
 /// Parses a command request, checks each command's scene with `check`, and sends the batch to

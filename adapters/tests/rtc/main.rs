@@ -9,6 +9,7 @@ mod checks;
 mod commands;
 mod lifecycle;
 mod messages;
+mod scenes;
 mod sequences;
 mod statuses;
 mod upstream;

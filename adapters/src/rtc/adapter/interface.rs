@@ -12,8 +12,8 @@ use cooperation::{
 };
 
 use super::{
-    apply_commands, auto_mode, auto_mode_status, auto_mode_under, cooperate_status, prune,
-    set_auto_mode, Reply, Routes,
+    apply_commands, auto_mode, auto_mode_status, auto_mode_under, cooperate_status, set_auto_mode,
+    Reply, Routes,
 };
 
 /// What upstream's per-scene queries answer of one live scene of an interface
@@ -54,12 +54,10 @@ impl<'a> View<'a> {
         (self.routes.get(&id) == Some(&self.index)).then_some(scene)
     }
 
-    /// This interface's live scenes, in identifier order.
+    /// This interface's live scenes, in identifier order: found from the adapter's list of the
+    /// interface's scenes, not among every live scene of the core.
     pub fn scenes(&self) -> impl Iterator<Item = (SceneId, &'a Scene)> + 'a {
-        let (routes, index) = (self.routes, self.index);
-        self.state
-            .scenes()
-            .filter(move |(id, _)| routes.get(id) == Some(&index))
+        self.routes.scenes(self.index, self.state)
     }
 
     /// `Ok` unless `id` is live but not this interface's (`[COOP-DEV-ID-REUSE.1]`). An identifier
@@ -269,7 +267,9 @@ impl Interface<'_> {
                 phase,
                 report,
             };
-            return Ok(self.state.apply(&update)?.into());
+            let transition = self.state.apply(&update)?;
+            self.routes.retired([&transition]);
+            return Ok(transition.into());
         }
         // [COOP-DEV-SEQUENCE.1]
         let module = match stated {
@@ -285,12 +285,7 @@ impl Interface<'_> {
         };
         // [COOP-DEV-QUOTA.1]
         if let Some(quota) = self.quota {
-            let index = self.index;
-            let live = self
-                .state
-                .scenes()
-                .filter(|(id, _)| self.routes.get(id) == Some(&index))
-                .count();
+            let live = self.view().scenes().count();
             if live >= quota {
                 return Err(RtcError::SceneQuota {
                     id,
@@ -326,8 +321,8 @@ impl Interface<'_> {
                 })?
                 .into()
         };
-        prune(self.routes, self.state);
-        self.routes.insert(id, self.index);
+        self.routes.prune(self.state);
+        self.routes.insert(id, self.index, self.state);
         Ok(transitions)
     }
 
@@ -363,7 +358,9 @@ impl Interface<'_> {
         let module = self.removal_module(id).ok_or(RtcError::NoSequence {
             name: self.binding.name.clone(),
         })?;
-        Ok(self.state.apply(&Input::Remove { id, module })?)
+        let transition = self.state.apply(&Input::Remove { id, module })?;
+        self.routes.retired([&transition]);
+        Ok(transition)
     }
 
     /// Upstream `clearCooperateStatus`: removes every live scene of this interface, all or
@@ -373,9 +370,8 @@ impl Interface<'_> {
     /// The core's rejection of a removal; then nothing is removed.
     pub fn clear_cooperate_status(&mut self) -> Result<Vec<SceneId>, RtcError> {
         let scenes: Vec<(SceneId, Module)> = self
-            .state
+            .view()
             .scenes()
-            .filter(|(id, _)| self.routes.get(id) == Some(&self.index))
             .map(|(id, scene)| (id, scene.module()))
             .collect();
         if scenes.is_empty() {
@@ -385,9 +381,11 @@ impl Interface<'_> {
             .iter()
             .map(|&(id, module)| Input::Remove { id, module })
             .collect();
-        self.state
+        let transitions = self
+            .state
             .apply_all(&removals)
             .map_err(|refused| RtcError::from(*refused.rejection))?;
+        self.routes.retired(&transitions);
         Ok(scenes.into_iter().map(|(id, _)| id).collect())
     }
 
