@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::Arc;
 
 use cooperation::{Scene, SceneId, State, Transition};
 
@@ -24,7 +25,9 @@ use cooperation::{Scene, SceneId, State, Transition};
 pub(crate) struct Routes {
     by_id: HashMap<SceneId, usize, BuildHasherDefault<SpreadHasher>>,
     /// Each interface's identifiers, by index, sorted and distinct; no identifier in two lists.
-    members: Vec<Vec<SceneId>>,
+    /// Shared between copies until one registers or retires a scene: a model checker copies
+    /// the adapter for every call it makes, and most calls do neither.
+    members: Arc<Vec<Vec<SceneId>>>,
     /// How many identifiers the lists hold together.
     listed: usize,
 }
@@ -34,7 +37,7 @@ impl Routes {
     pub(crate) fn new(interfaces: usize) -> Self {
         Self {
             by_id: HashMap::default(),
-            members: vec![Vec::new(); interfaces],
+            members: Arc::new(vec![Vec::new(); interfaces]),
             listed: 0,
         }
     }
@@ -59,21 +62,23 @@ impl Routes {
         if state.scene(id).is_none() {
             return;
         }
-        if let Some(list) = self.members.get_mut(index) {
-            if let Err(at) = list.binary_search(&id) {
-                list.insert(at, id);
-                self.listed += 1;
-            }
+        let Some(Err(at)) = self.members.get(index).map(|list| list.binary_search(&id)) else {
+            return;
+        };
+        if let Some(list) = Arc::make_mut(&mut self.members).get_mut(index) {
+            list.insert(at, id);
+            self.listed += 1;
         }
     }
 
     /// Drops `id` from interface `index`'s list, if it is there.
     fn unlist(&mut self, index: usize, id: SceneId) {
-        if let Some(list) = self.members.get_mut(index) {
-            if let Ok(at) = list.binary_search(&id) {
-                list.remove(at);
-                self.listed -= 1;
-            }
+        let Some(Ok(at)) = self.members.get(index).map(|list| list.binary_search(&id)) else {
+            return;
+        };
+        if let Some(list) = Arc::make_mut(&mut self.members).get_mut(index) {
+            list.remove(at);
+            self.listed -= 1;
         }
     }
 
@@ -91,8 +96,8 @@ impl Routes {
 
     /// Drops the identifiers that are no longer live from the lists, if they list more
     /// identifiers than `state` has live scenes: some scene was retired by an input the adapter
-    /// did not make. So the lists never hold more stale identifiers than the core holds live
-    /// scenes the adapter has no route for.
+    /// did not make. So once this has run, the lists hold no more identifiers that are not live
+    /// than the core holds live scenes on no list (scenes registered past the adapter).
     pub(crate) fn settle(&mut self, state: &State) {
         if self.listed > state.scene_count() {
             self.sweep(state);
@@ -101,8 +106,12 @@ impl Routes {
 
     /// Drops the identifiers that are no longer live from the lists.
     fn sweep(&mut self, state: &State) {
-        for list in &mut self.members {
-            list.retain(|id| state.scene(*id).is_some());
+        let live = |id: &SceneId| state.scene(*id).is_some();
+        if self.members.iter().flatten().all(live) {
+            return;
+        }
+        for list in Arc::make_mut(&mut self.members).iter_mut() {
+            list.retain(live);
         }
         self.listed = self.members.iter().map(Vec::len).sum();
     }
