@@ -1,12 +1,12 @@
 //! A process that hosts the core for others: the core with the bookkeeping its adapters keep
 //! ([`Host`]), and the service engine over it behind one lock ([`Shared`]).
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use cooperation::{State, Transition};
 
-use crate::engine::{Engine, Now, Publication};
+use crate::engine::{self, Engine, Now, Publication};
 use crate::rtc::{Interface, InterfaceId, Rtc, RtcError, View};
 use crate::wire;
 
@@ -168,7 +168,14 @@ pub struct Shared {
     inner: Mutex<Inner>,
     /// How many times [`update`](Self::update) has taken the lock ([`changes`](Self::changes)).
     changes: AtomicU64,
+    /// [`Engine::read_ms`] as the last [`update`](Self::update) left it, for
+    /// [`told_in`](Self::told_in); [`UNKNOWN_MS`] while an update runs, and before the engine's
+    /// first reading.
+    read_ms: AtomicI64,
 }
+
+/// What [`Shared`]'s copy of the engine's last reading holds when it matches no reading.
+const UNKNOWN_MS: i64 = i64::MIN;
 
 /// What the lock guards: the engine, and its newest publication for every door that sends
 /// one.
@@ -184,6 +191,10 @@ impl Shared {
     /// A handle owning `engine`.
     #[must_use]
     pub const fn new(engine: Engine) -> Self {
+        let read_ms = match engine.read_ms() {
+            Some(read_ms) => read_ms,
+            None => UNKNOWN_MS,
+        };
         Self {
             inner: Mutex::new(Inner {
                 engine,
@@ -191,6 +202,7 @@ impl Shared {
                 newest: None,
             }),
             changes: AtomicU64::new(0),
+            read_ms: AtomicI64::new(read_ms),
         }
     }
 
@@ -210,7 +222,25 @@ impl Shared {
         // Counted before the change, under the lock: a reader that sees the count move reads
         // again under the lock, so after the change; one that does not is before it.
         self.changes.fetch_add(1, Ordering::Release);
-        change(&mut inner.engine)
+        // Unknown while `change` runs (and after, if it panics): `told_in` answers from the
+        // lock's side only what the engine held between two updates.
+        self.read_ms.store(UNKNOWN_MS, Ordering::Release);
+        let answer = change(&mut inner.engine);
+        self.read_ms.store(
+            inner.engine.read_ms().unwrap_or(UNKNOWN_MS),
+            Ordering::Release,
+        );
+        answer
+    }
+
+    /// Whether the engine was last told a reading in the millisecond of `now`'s, read without
+    /// the lock. If so, [`Engine::advance`] at `now` would change nothing and expire nothing, so
+    /// a host may answer it without the lock and without counting a change: as of the moment
+    /// of this read, which is between two updates.
+    #[must_use]
+    pub fn told_in(&self, now: Now) -> bool {
+        let read_ms = self.read_ms.load(Ordering::Acquire);
+        read_ms != UNKNOWN_MS && read_ms == engine::reading_ms(now)
     }
 
     /// Runs `query` between two changes: everything it reads is from one moment. Keep it short;

@@ -521,3 +521,46 @@ fn a_sync_answers_what_its_host_should_log() {
     assert!(!unknown_state.reply.success(), "{unknown_state:?}");
     assert!(unknown_state.refused.is_empty(), "{unknown_state:?}");
 }
+
+proptest::proptest! {
+    /// A host may skip telling the engine a reading in the millisecond it was last told
+    /// (`Shared::told_in`, read without the lock) only because doing so would change nothing:
+    /// over readings that repeat, creep by less than a millisecond, step and go back, with
+    /// reports and commands between them, `told_in` says yes exactly when the engine's last
+    /// reading is in that millisecond, and then `advance` leaves the engine as it was.
+    #[test]
+    fn a_reading_in_the_millisecond_last_told_changes_nothing(
+        calls in proptest::collection::vec((0_u8..4, -3_i64..40), 1..60),
+    ) {
+        let mut config = cooperation_adapters::settings::load(None)
+            .expect("the built-in settings")
+            .config;
+        config.limits.ttl_ms = 5;
+        let engine = Engine::new(config, Options::default()).expect("a configuration");
+        let shared = cooperation_adapters::Shared::new(engine);
+        for (kind, step) in calls {
+            // Steps of a quarter millisecond, from a reading that is no whole millisecond.
+            let now = Now::new(7_100_000 + step * 250_000, Time::new(1_000, 0));
+            let told = shared.told_in(now);
+            let (before, last_ms) = shared.read(|engine| (engine.clone(), engine.read_ms()));
+            proptest::prop_assert_eq!(told, last_ms == Some(now.reading_ns.div_euclid(1_000_000)));
+            let n = u128::try_from(step.rem_euclid(3)).expect("small") + 1;
+            match kind {
+                0 => {
+                    let after = shared.update(|engine| {
+                        let answer = engine.advance(now);
+                        (answer, engine.clone())
+                    });
+                    if told {
+                        proptest::prop_assert_eq!(after.0.0, Default::default());
+                        proptest::prop_assert!(after.0.1.is_none());
+                        proptest::prop_assert_eq!(&after.1, &before);
+                    }
+                }
+                1 => drop(shared.update(|engine| engine.handle(report(n, step % 2 == 0), now))),
+                2 => drop(shared.update(|engine| engine.handle(command(n, OperatorDecision::Activate), now))),
+                _ => drop(shared.update(|engine| engine.handle_timeout(now))),
+            }
+        }
+    }
+}

@@ -313,6 +313,14 @@ impl Engine {
         Now::new(told_ns, stamp)
     }
 
+    /// The millisecond of the reading the core was last told of (`None` before the first). A
+    /// call at a reading in that millisecond tells the core no time and leaves the engine as it
+    /// was, so [`advance`](Self::advance) at such a reading changes nothing.
+    #[must_use]
+    pub const fn read_ms(&self) -> Option<i64> {
+        self.read_ms
+    }
+
     /// Counts a change of the core, `shown` if it changed what the streams show.
     fn count_change(&mut self, shown: bool) -> Change {
         self.revision += 1;
@@ -566,6 +574,6 @@ pub fn publish_every(rate_hz: f64) -> Result<std::time::Duration, EngineError> {
 }
 
 /// `now`'s reading in whole milliseconds.
-const fn reading_ms(now: Now) -> i64 {
+pub(crate) const fn reading_ms(now: Now) -> i64 {
     now.reading_ns.div_euclid(1_000_000)
 }
