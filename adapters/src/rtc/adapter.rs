@@ -208,7 +208,7 @@ impl Rtc {
             quota,
         } = self;
         let bindings: &'a [Binding] = bindings;
-        let binding = configured(bindings, modules, state, id)?;
+        let (binding, _) = configured(bindings, modules, state, id)?;
         routes.settle(state);
         Ok(Interface {
             bindings,
@@ -242,13 +242,14 @@ impl Rtc {
         state: &'a cooperation::State,
         id: InterfaceId,
     ) -> Result<View<'a>, RtcError> {
-        let binding = configured(&self.bindings, &self.modules, state, id)?;
+        let (binding, module_policy) = configured(&self.bindings, &self.modules, state, id)?;
         Ok(View {
             bindings: &self.bindings,
             binding,
             index: id.0,
             routes: &self.routes,
             state,
+            module_policy,
         })
     }
 
@@ -345,7 +346,8 @@ impl Rtc {
             .scenes()
             .filter_map(|(id, scene)| {
                 let binding = self.bindings.get(*self.routes.get(&id)?)?;
-                Some(cooperate_status(binding, id, scene, state, stamp))
+                let policy = || state.policy(scene.module());
+                Some(cooperate_status(binding, id, scene, policy, stamp))
             })
             .collect();
         statuses.sort_by(|a, b| {
@@ -375,28 +377,34 @@ impl Rtc {
     }
 }
 
-/// The binding `id`, if the core has a policy for each of its modules.
+/// A binding's module and that module's policy, where it binds one module (every binding but
+/// the avoidances').
+type ModulePolicy<'a> = Option<(&'a Module, Policy)>;
+
+/// The binding `id`, if the core has a policy for each of its modules; with its
+/// [`ModulePolicy`].
 fn configured<'b>(
     bindings: &'b [Binding],
-    modules: &[Box<[Module]>],
+    modules: &'b [Box<[Module]>],
     state: &cooperation::State,
     id: InterfaceId,
-) -> Result<&'b Binding, RtcError> {
+) -> Result<(&'b Binding, ModulePolicy<'b>), RtcError> {
     let (Some(binding), Some(modules)) = (bindings.get(id.0), modules.get(id.0)) else {
         return Err(RtcError::UnknownInterface {
             name: format!("#{}", id.0),
         });
     };
-    if let Some(module) = modules
-        .iter()
-        .find(|module| state.policy(**module).is_none())
-    {
-        return Err(RtcError::Unconfigured {
-            name: binding.name.clone(),
-            module: *module,
-        });
+    let mut only = None;
+    for module in modules.iter() {
+        let Some(policy) = state.policy(*module) else {
+            return Err(RtcError::Unconfigured {
+                name: binding.name.clone(),
+                module: *module,
+            });
+        };
+        only = Some((module, policy));
     }
-    Ok(binding)
+    Ok((binding, only.filter(|_| modules.len() == 1)))
 }
 
 /// Parses a command request, checks each command's scene with `check`, and sends the batch to
@@ -441,13 +449,8 @@ fn set_auto_mode(
 
 /// Upstream's `auto_mode` of a scene: it proceeds on the module's judgment, because the operator
 /// chose autonomous or has not decided under an optional policy. `requested` is a separate field,
-/// as upstream.
-fn auto_mode(scene: &Scene, state: &cooperation::State) -> bool {
-    auto_mode_under(scene, || state.policy(scene.module()))
-}
-
-/// [`auto_mode`], with `policy` giving the policy of the scene's module (asked only for a scene
-/// no operator has decided), for a caller that has looked it up already.
+/// as upstream. `policy` gives the policy of the scene's module; it is asked only for a scene no
+/// operator has decided.
 fn auto_mode_under(scene: &Scene, policy: impl FnOnce() -> Option<Policy>) -> bool {
     match scene.operator_decision() {
         OperatorDecision::Autonomous => true,
@@ -456,13 +459,14 @@ fn auto_mode_under(scene: &Scene, policy: impl FnOnce() -> Option<Policy>) -> bo
     }
 }
 
-/// A live scene as an RTC status. The stamp is the owner's last report: `stamp` less the scene's
-/// age.
+/// A live scene as an RTC status, `policy` giving the policy of its module (asked only for a
+/// scene no operator has decided). The stamp is the owner's last report: `stamp` less the
+/// scene's age.
 fn cooperate_status(
     binding: &Binding,
     id: SceneId,
     scene: &Scene,
-    state: &cooperation::State,
+    policy: impl FnOnce() -> Option<Policy>,
     stamp: Time,
 ) -> CooperateStatus {
     let (start_distance, finish_distance) = distances(scene.geometry());
@@ -480,7 +484,7 @@ fn cooperate_status(
         requested: scene.is_requested(),
         command_status: Command::from(command),
         state: scene.phase().into(),
-        auto_mode: auto_mode(scene, state),
+        auto_mode: auto_mode_under(scene, policy),
         start_distance,
         finish_distance,
     }

@@ -8,12 +8,13 @@ use crate::rtc::{
 };
 use crate::Time;
 use cooperation::{
-    Decision, Input, Module, Phase, Report, RetireReason, Scene, SceneId, Sequence, Transition,
+    Decision, Input, Module, Phase, Policy, Report, RetireReason, Scene, SceneId, Sequence,
+    Transition,
 };
 
 use super::{
-    apply_commands, auto_mode, auto_mode_status, auto_mode_under, cooperate_status, set_auto_mode,
-    Reply, Routes,
+    apply_commands, auto_mode_status, auto_mode_under, cooperate_status, set_auto_mode,
+    ModulePolicy, Reply, Routes,
 };
 
 /// What upstream's per-scene queries answer of one live scene of an interface
@@ -38,6 +39,9 @@ pub struct View<'a> {
     pub(super) index: usize,
     pub(super) routes: &'a Routes,
     pub(super) state: &'a cooperation::State,
+    /// The binding's module and its policy, read when the view was made, if the binding has
+    /// one module: the policy of every scene of the interface, read once.
+    pub(super) module_policy: ModulePolicy<'a>,
 }
 
 impl<'a> View<'a> {
@@ -58,6 +62,15 @@ impl<'a> View<'a> {
     /// interface's scenes, not among every live scene of the core.
     pub fn scenes(&self) -> impl Iterator<Item = (SceneId, &'a Scene)> + 'a {
         self.routes.scenes(self.index, self.state)
+    }
+
+    /// The policy of the module of `scene`, one of this interface's scenes.
+    #[inline]
+    fn policy_of(&self, scene: &Scene) -> Option<Policy> {
+        match self.module_policy {
+            Some((module, policy)) if scene.module() == *module => Some(policy),
+            _ => self.state.policy(scene.module()),
+        }
     }
 
     /// `Ok` unless `id` is live but not this interface's (`[COOP-DEV-ID-REUSE.1]`). An identifier
@@ -110,18 +123,20 @@ impl<'a> View<'a> {
     #[must_use]
     pub fn is_rtc_enabled(&self, id: SceneId) -> Option<bool> {
         // [COOP-DEV-UNKNOWN-QUERY.1]
-        self.scene(id).map(|scene| !auto_mode(scene, self.state))
+        self.scene(id)
+            .map(|scene| !auto_mode_under(scene, || self.policy_of(scene)))
     }
 
     /// The four queries above of each of this interface's live scenes, in identifier order,
-    /// answered together: each scene's route and its module's policy read once, where asking
-    /// the four queries of a scene finds it five times in the core and four among the routes,
-    /// and reads the policy twice. For a caller that keeps the answers of all its scenes (the
-    /// C++ class's copy of them); every answer is the one the query gives.
+    /// answered together: each scene's route and its module's policy read once (the policy
+    /// once for all of them, where the binding has one module), where asking the four queries
+    /// of a scene finds it five times in the core and four among the routes. For a caller that
+    /// keeps the answers of all its scenes (the C++ class's copy of them); every answer is the
+    /// one the query gives.
     pub fn answers(&self) -> impl Iterator<Item = (SceneId, Answers)> + 'a {
-        let state = self.state;
+        let view = *self;
         self.scenes().map(move |(id, scene)| {
-            let policy = state.policy(scene.module());
+            let policy = view.policy_of(scene);
             let answers = Answers {
                 activated: policy.map(|policy| scene.merged_decision(policy))
                     == Some(Decision::Activate),
@@ -166,9 +181,10 @@ impl<'a> View<'a> {
     /// The statuses of [`cooperate_status_array`](Self::cooperate_status_array), one by one,
     /// for a caller that builds its own array.
     pub fn cooperate_statuses(&self, stamp: Time) -> impl Iterator<Item = CooperateStatus> + 'a {
-        let (binding, state) = (self.binding, self.state);
-        self.scenes()
-            .map(move |(id, scene)| cooperate_status(binding, id, scene, state, stamp))
+        let view = *self;
+        self.scenes().map(move |(id, scene)| {
+            cooperate_status(view.binding, id, scene, || view.policy_of(scene), stamp)
+        })
     }
 
     /// Upstream's auto-mode status: on when the interface's module policy is optional (every
@@ -200,6 +216,7 @@ impl Interface<'_> {
             index: self.index,
             routes: self.routes,
             state: self.state,
+            module_policy: None,
         }
     }
 
@@ -406,6 +423,7 @@ impl Interface<'_> {
                 index,
                 routes,
                 state,
+                module_policy: None,
             }
             .check_owned(id)
         })
