@@ -97,7 +97,11 @@ impl Policies {
     /// The policy of `module`, if it supports cooperation.
     #[inline]
     pub(super) fn get(&self, module: Module) -> Option<Policy> {
-        self.slot(module).and_then(|slot| self.at(slot))
+        match module.index() {
+            // A built-in module's slot is its index: read at once.
+            Some(index) => self.builtin.get(index).copied().flatten(),
+            None => self.slot(module).and_then(|slot| self.at(slot)),
+        }
     }
 
     /// Where `module`'s policy is kept, if it supports cooperation: a place that
