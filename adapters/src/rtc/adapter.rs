@@ -382,7 +382,8 @@ impl Rtc {
 type ModulePolicy<'a> = Option<(&'a Module, Policy)>;
 
 /// The binding `id`, if the core has a policy for each of its modules; with its
-/// [`ModulePolicy`].
+/// [`ModulePolicy`]. Made by every call of an interface, so the refusals are made apart.
+#[inline]
 fn configured<'b>(
     bindings: &'b [Binding],
     modules: &'b [Box<[Module]>],
@@ -390,21 +391,38 @@ fn configured<'b>(
     id: InterfaceId,
 ) -> Result<(&'b Binding, ModulePolicy<'b>), RtcError> {
     let (Some(binding), Some(modules)) = (bindings.get(id.0), modules.get(id.0)) else {
-        return Err(RtcError::UnknownInterface {
-            name: format!("#{}", id.0),
-        });
+        return Err(unknown_interface(id));
     };
-    let mut only = None;
-    for module in modules.iter() {
-        let Some(policy) = state.policy(*module) else {
-            return Err(RtcError::Unconfigured {
-                name: binding.name.clone(),
-                module: *module,
-            });
+    if let [module] = &**modules {
+        return match state.policy(*module) {
+            Some(policy) => Ok((binding, Some((module, policy)))),
+            None => Err(unconfigured(binding, *module)),
         };
-        only = Some((module, policy));
     }
-    Ok((binding, only.filter(|_| modules.len() == 1)))
+    match modules
+        .iter()
+        .find(|module| state.policy(**module).is_none())
+    {
+        Some(module) => Err(unconfigured(binding, *module)),
+        None => Ok((binding, None)),
+    }
+}
+
+/// [`configured`]'s refusal of an interface `id` that is not the adapter's.
+#[cold]
+fn unknown_interface(id: InterfaceId) -> RtcError {
+    RtcError::UnknownInterface {
+        name: format!("#{}", id.0),
+    }
+}
+
+/// [`configured`]'s refusal of `binding`, whose `module` the core has no policy for.
+#[cold]
+fn unconfigured(binding: &Binding, module: Module) -> RtcError {
+    RtcError::Unconfigured {
+        name: binding.name.clone(),
+        module,
+    }
 }
 
 /// Parses a command request, checks each command's scene with `check`, and sends the batch to
