@@ -20,14 +20,18 @@ void Logger::set_sink(Sink sink) { *sink_ = std::move(sink); }
 
 builtin_interfaces::msg::Time Clock::now() const
 {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return now_;
+  const uint64_t word = now_.load(std::memory_order_acquire);
+  builtin_interfaces::msg::Time time;
+  time.sec = static_cast<int32_t>(static_cast<uint32_t>(word >> 32));
+  time.nanosec = static_cast<uint32_t>(word);
+  return time;
 }
 
 void Clock::set_now(builtin_interfaces::msg::Time now)
 {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  now_ = now;
+  const uint64_t seconds = static_cast<uint32_t>(now.sec);
+  const uint64_t word = (seconds << 32) | static_cast<uint64_t>(now.nanosec);
+  now_.store(word, std::memory_order_release);
 }
 
 Timer::Timer(std::chrono::nanoseconds period, std::function<void()> callback)

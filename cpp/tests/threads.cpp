@@ -1,8 +1,10 @@
 // Two planner threads and an operator thread on one node: every report and every accepted
-// command lands, none is lost or half-applied (`[COOP-DEV-RACE.1]`). Run under ThreadSanitizer
-// by `tools/cpp` (docs/cpp.md).
+// command lands, none is lost or half-applied (`[COOP-DEV-RACE.1]`); and the node's clock, set
+// by one thread while another reads it, reads whole. Run under ThreadSanitizer by `tools/cpp`
+// (docs/cpp.md).
 #include "check.hpp"
 
+#include <cstdint>
 #include <thread>
 #include <tuple>
 
@@ -60,6 +62,33 @@ unsigned operate(cooperation::rtc::Node & node, const std::string & name, unsign
   }
   return left;
 }
+
+/// The node's clock set by one thread (the planner's) while another reads it (an interface's
+/// update): every reading is one time that was set, its seconds and nanoseconds together, and
+/// never earlier than a reading before it.
+void a_clock_read_while_set_shows_one_time_set()
+{
+  constexpr uint32_t kTimes = 200000;
+  cooperation::rtc::Node node("clock");
+  std::thread planner([&] {
+    for (uint32_t k = 1; k <= kTimes; ++k) {
+      node.set_now(check::at(static_cast<int32_t>(k), k * 7));
+    }
+  });
+  bool whole = true;
+  bool forward = true;
+  int32_t last = 0;
+  for (uint32_t read = 0; read < kTimes; ++read) {
+    const auto now = node.now();
+    whole = whole && now.nanosec == static_cast<uint32_t>(now.sec) * 7;
+    forward = forward && now.sec >= last;
+    last = now.sec;
+  }
+  planner.join();
+  CHECK(whole, "every reading of the clock is one time that was set");
+  CHECK(forward, "no reading is earlier than one before it");
+  CHECK(node.now().sec == static_cast<int32_t>(kTimes), "the last time set is read");
+}
 }  // namespace
 
 int main()
@@ -101,5 +130,6 @@ int main()
     CHECK(last_reports, name + ": each scene shows its planner's last report");
     CHECK(activated, name + ": each scene shows the operator's accepted command");
   }
+  a_clock_read_while_set_shows_one_time_set();
   return check::report("threads");
 }

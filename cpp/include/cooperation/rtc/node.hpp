@@ -7,7 +7,9 @@
 
 #include "cooperation/rtc/messages.hpp"
 
+#include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -40,7 +42,8 @@ private:
 };
 
 /// A node's clock: the time its owner last set (`rclcpp::Clock`'s `now()`). An interface keeps
-/// it, so it may outlive its node.
+/// it, so it may outlive its node. Reading it takes no lock: every update and expiry of every
+/// interface reads it.
 class Clock
 {
 public:
@@ -49,8 +52,9 @@ public:
   void set_now(builtin_interfaces::msg::Time now);
 
 private:
-  mutable std::mutex mutex_;
-  builtin_interfaces::msg::Time now_;
+  /// The time as one word, its seconds' bits above its nanoseconds', so that a reader sees one
+  /// time set, never half of two.
+  std::atomic<uint64_t> now_{0};
 };
 
 /// What identifies a node (`rclcpp::node_interfaces::NodeBaseInterface`'s role): its name.
